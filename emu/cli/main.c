@@ -1,0 +1,54 @@
+/* main.c: the `pp5` program: git-style dispatch to the subcommands that the
+ * modules register with PP5_COMMAND (see emu/util/registry.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include "registry.h"
+
+static void print_usage(FILE *out)
+{
+    int n;
+    const pp5_command_t *cmds = pp5_commands(&n);
+    fprintf(out,
+            "pp5 %s: a Pixel-Planes 5 emulator and its gaze-directed volume renderer\n\n"
+            "usage: pp5 COMMAND [options]      (pp5 COMMAND --help for a command's options)\n\n"
+            "commands:\n",
+            PP5_VERSION);
+    for (int i = 0; i < n; i++)
+        fprintf(out, "  %-16s %s\n", cmds[i].name, cmds[i].summary);
+    fprintf(out, "  %-16s %s\n", "help", "this list, or `pp5 help COMMAND` for one command");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        print_usage(stderr);
+        return 2;
+    }
+    const char *name = argv[1];
+    if (strcmp(name, "help") == 0 || strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
+        if (argc >= 3 && strcmp(name, "help") == 0) {
+            const pp5_command_t *c = pp5_find_command(argv[2]);
+            if (!c) {
+                fprintf(stderr, "pp5: no command '%s' (see pp5 help)\n", argv[2]);
+                return 2;
+            }
+            char *help_argv[] = {argv[2], "--help", NULL};
+            return c->fn(2, help_argv);
+        }
+        print_usage(stdout);
+        return 0;
+    }
+    if (strcmp(name, "--version") == 0 || strcmp(name, "version") == 0) {
+        printf("pp5 %s\n", PP5_VERSION);
+        return 0;
+    }
+    const pp5_command_t *c = pp5_find_command(name);
+    if (!c) {
+        fprintf(stderr, "pp5: no command '%s'\n\n", name);
+        print_usage(stderr);
+        return 2;
+    }
+    /* The command sees argv[0] = its own name, like a git subcommand. */
+    return c->fn(argc - 1, argv + 1);
+}

@@ -1,0 +1,68 @@
+/* volume.h: the volume type every renderer uses, its loaders, and the
+ * procedural phantoms.
+ *
+ * Voxels are converted to float on load (x fastest, then y, then z) and keep
+ * their original units (CT numbers, MR intensities, 0..255 for 8-bit data), so
+ * classification presets can be written in the data's own units.  Loaders
+ * parse and validate completely before they return, so a truncated or
+ * inconsistent file never yields a half-filled volume. */
+#ifndef PP5_VOLUME_H
+#define PP5_VOLUME_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "status.h"
+
+/* Largest accepted side and voxel count: far beyond any data pp5 expects,
+ * small enough that an absurd header is refused before any allocation. */
+#define VOLUME_MAX_SIDE 4096
+#define VOLUME_MAX_VOXELS (1024ull * 1024ull * 1024ull)
+
+typedef enum { VOXEL_U8, VOXEL_I8, VOXEL_U16, VOXEL_I16, VOXEL_U32, VOXEL_I32, VOXEL_F32,
+               VOXEL_F64 } voxel_type_t;
+
+typedef struct {
+    int nx, ny, nz;
+    double spacing[3];     /* voxel spacing (x, y, z), in the file's units (mm if known) */
+    float *data;           /* nx*ny*nz values, x fastest */
+    float min_value, max_value;
+    char source[512];      /* what was loaded: path or "phantom shepp-logan 256x256x109" */
+    uint64_t hash;         /* FNV-1a 64 of the float data, for reports */
+} volume_t;
+
+/* How to read a headerless raw file (also used for .gz raw files). */
+typedef struct {
+    int nx, ny, nz;
+    voxel_type_t type;
+    bool big_endian;
+    double spacing[3];     /* 0 means 1 */
+    uint64_t header_bytes; /* bytes to skip before the voxels */
+} volume_raw_spec_t;
+
+/* Loads by file name: .nrrd/.nhdr (Teem), .nii/.nii.gz (niftilib), .den
+ * (VolPack), a Stanford slice series given as its first slice or stem
+ * (CThead.1 .. CThead.N), or raw (needs `raw`; .gz is decompressed).
+ * `raw` may be NULL for self-describing formats. */
+pp5_status_t volume_load(const char *path, const volume_raw_spec_t *raw, volume_t *out);
+pp5_status_t volume_load_raw(const char *path, const volume_raw_spec_t *raw, volume_t *out);
+/* Allocates an nx*ny*nz volume of zeros (checked sizes). */
+pp5_status_t volume_alloc(volume_t *v, int nx, int ny, int nz);
+void volume_free(volume_t *v);
+/* Recomputes min_value, max_value and hash after the data changed. */
+void volume_update_stats(volume_t *v);
+/* Resamples to new dimensions (trilinear), e.g. 128x128x84 -> 128x128x109. */
+pp5_status_t volume_resample(const volume_t *in, int nx, int ny, int nz, volume_t *out);
+
+static inline float volume_at(const volume_t *v, int x, int y, int z)
+{
+    return v->data[((size_t)z * (size_t)v->ny + (size_t)y) * (size_t)v->nx + (size_t)x];
+}
+
+/* Procedural phantoms: "shepp-logan" (3D, MR-like; default 256x256x109),
+ * "marschner-lobb" (default 41x41x41), "sphere-shell" (default 64^3).
+ * nx/ny/nz of 0 mean the default size. */
+pp5_status_t phantom_make(const char *name, int nx, int ny, int nz, volume_t *out);
+/* Comma-separated list of phantom names, for --help texts. */
+const char *phantom_names(void);
+
+#endif
