@@ -157,6 +157,36 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+typedef enum { OUTCOME_PASS, OUTCOME_FAIL, OUTCOME_SKIP } outcome_t;
+
+/* Runs one test.  Kept apart from main() so that setjmp/longjmp cannot
+ * clobber the runner's own locals. */
+static outcome_t run_one(const test_entry_t *t)
+{
+    current_name = t->name;
+    checks_made = checks_failed = 0;
+    skip_reason[0] = '\0';
+    double t0 = now_seconds();
+    int how = setjmp(test_exit);
+    if (how == 0)
+        t->fn();
+    double ms = 1000.0 * (now_seconds() - t0);
+    if (how == 2) {
+        printf("SKIP %s: %s\n", t->name, skip_reason);
+        return OUTCOME_SKIP;
+    }
+    if (checks_failed > 0 || how == 1) {
+        printf("FAIL %s (%d of %d checks failed)\n", t->name, checks_failed, checks_made);
+        return OUTCOME_FAIL;
+    }
+    if (checks_made == 0) {
+        printf("FAIL %s (made no check: a test must assert something)\n", t->name);
+        return OUTCOME_FAIL;
+    }
+    printf("ok   %s (%d checks, %.0f ms)\n", t->name, checks_made, ms);
+    return OUTCOME_PASS;
+}
+
 int main(int argc, char **argv)
 {
     bool list = false;
@@ -178,28 +208,10 @@ int main(int argc, char **argv)
             printf("%s (%s)\n", tests[i].name, tests[i].file);
             continue;
         }
-        current_name = tests[i].name;
-        checks_made = checks_failed = 0;
-        skip_reason[0] = '\0';
-        double t0 = now_seconds();
-        int how = setjmp(test_exit);
-        if (how == 0) {
-            tests[i].fn();
-        }
-        double ms = 1000.0 * (now_seconds() - t0);
-        if (how == 2) {
-            printf("SKIP %s: %s\n", tests[i].name, skip_reason);
-            skipped++;
-        } else if (checks_failed > 0 || how == 1) {
-            printf("FAIL %s (%d of %d checks failed)\n", tests[i].name, checks_failed,
-                   checks_made);
-            failed++;
-        } else if (checks_made == 0) {
-            printf("FAIL %s (made no check: a test must assert something)\n", tests[i].name);
-            failed++;
-        } else {
-            printf("ok   %s (%d checks, %.0f ms)\n", tests[i].name, checks_made, ms);
-            passed++;
+        switch (run_one(&tests[i])) {
+        case OUTCOME_PASS: passed++; break;
+        case OUTCOME_FAIL: failed++; break;
+        case OUTCOME_SKIP: skipped++; break;
         }
         fflush(stdout);
     }

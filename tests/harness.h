@@ -48,7 +48,8 @@ void pp5_test_skip(const char *fmt, ...) __attribute__((noreturn, format(printf,
 #define SKIP(...) pp5_test_skip(__VA_ARGS__)
 
 /* Path of a file under ../shared/data (or $PP5_SHARED_DATA), or NULL when
- * absent; tests that need real data SKIP loudly when this is NULL. */
+ * absent; tests that need real data SKIP loudly when this is NULL.  The path
+ * lives in a static buffer that the next call overwrites: copy it to keep it. */
 const char *pp5_test_shared_data(const char *relative_path);
 /* A fresh, empty directory for this test's output files (under build/). */
 const char *pp5_test_outdir(void);
