@@ -71,6 +71,24 @@ pp5_status_t pp5_params_validate(const pp5_params_t *p);
 double params_get(const pp5_params_t *p, const param_info_t *row);
 void params_format(const pp5_params_t *p, const param_info_t *row, char *buf, size_t n);
 
+/* The machine options shared by every command that builds a machine:
+ * --preset NAME, --config FILE, --set k=v (repeatable).  Applied in that
+ * order (preset, then file, then each --set), all validated. */
+#define PP5_PARAMS_MAX_SETS 64
+typedef struct {
+    const char *preset;
+    const char *config;
+    const char *sets[PP5_PARAMS_MAX_SETS];
+    int n_sets;
+} pp5_params_cli_t;
+/* Record one option (returns PP5_E_CONFIG when there are too many --set). */
+pp5_status_t pp5_params_cli_add_set(pp5_params_cli_t *c, const char *kv);
+pp5_status_t pp5_params_build(const pp5_params_cli_t *c, pp5_params_t *out);
+#define PP5_PARAMS_CLI_HELP \
+    "  --preset NAME     machine preset: default, gaze1990-literal\n" \
+    "  --config FILE     parameter file: 'name = value' lines, # comments\n" \
+    "  --set NAME=VALUE  override one parameter (repeatable; see pp5 machine)\n"
+
 /* Derived figures. */
 double pp5_params_ring_channel_bytes_per_s(const pp5_params_t *p);
 double pp5_params_ring_aggregate_bytes_per_s(const pp5_params_t *p);
