@@ -1,6 +1,6 @@
 /* pp_params.h: pp_params_t, the renderer/PP rows of the parameter table (pp_params.def).
  *
- * changed: (nothing yet; seam with emu-core, change only additively) */
+ * changed: added PP_PLANE_WORDS (seam with emu-core, change only additively) */
 #ifndef PP5_PP_PARAMS_H
 #define PP5_PP_PARAMS_H
 
@@ -15,6 +15,7 @@
 #define PP_BS_BITS       4096u                      /* backing store per PP */
 #define PP_BS_BLOCK_BITS 32u                        /* transfer granularity, [S] S4 */
 #define PP_BS_BLOCKS     (PP_BS_BITS / PP_BS_BLOCK_BITS) /* 128 */
+#define PP_PLANE_WORDS   (PP_COUNT / 64u)           /* uint64 words in one bit plane */
 
 typedef struct {
 #define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) uint32_t FIELD;
