@@ -52,6 +52,8 @@ struct gp {
     pp5_tick_t local_ps;          /* the GP's clock */
     pp5_tick_t busy_ps;
     uint64_t busy_cycles;
+    pp5_tick_t setup_busy_ps;     /* part of busy_ps spent in machine_run_setup */
+    uint64_t setup_busy_cycles;
     fw_ops_t ops_total;
 
     uint64_t mem_capacity_bytes, mem_used_bytes, mem_peak_bytes;

@@ -44,6 +44,25 @@ pp5_status_t host_load_gp(host_t *h, unsigned gp, size_t image_bytes, const void
     return st;
 }
 
+pp5_status_t host_start_frame(host_t *h, unsigned n_gp, uint32_t frame, pp5_tick_t t)
+{
+    for (unsigned g = 0; g < n_gp; g++) {
+        ring_msg_t m;
+        memset(&m, 0, sizeof m);
+        m.src = ring_addr(RING_NODE_HOST, 0);
+        m.dst = ring_addr(RING_NODE_GP, g);
+        m.kind = RING_MSG_FRAME_START;
+        m.cls = RING_CLASS_HOST;
+        m.args[0] = frame;
+        pp5_status_t st = h->send(h->send_ctx, &m, t);
+        if (st != PP5_OK) {
+            return st;
+        }
+        h->frame_starts++;
+    }
+    return PP5_OK;
+}
+
 pp5_status_t host_deliver(host_t *h, const ring_msg_t *msg, pp5_tick_t now)
 {
     h->msgs_received++;   /* results for the host are counted, not interpreted */

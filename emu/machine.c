@@ -59,7 +59,7 @@ pp5_status_t machine_send(machine_t *m, const ring_msg_t *msg, pp5_tick_t t)
     if (st != PP5_OK) {
         return st;
     }
-    return ring_send(&m->ring, msg, s, d, t, NULL);
+    return ring_send(&m->ring, msg, s, d, t);
 }
 
 static pp5_status_t machine_gp_send(void *ctx, gp_t *gp, const ring_msg_t *msg, pp5_tick_t t)
@@ -243,6 +243,17 @@ pp5_status_t machine_load_program(machine_t *m, unsigned gp, const fw_program_t 
     return host_load_gp(&m->host, gp, prog->image_bytes, data, data_bytes, m->sched.now);
 }
 
+pp5_status_t machine_load_all(machine_t *m, const fw_program_t *prog)
+{
+    for (unsigned g = 0; g < m->n_gp; g++) {
+        pp5_status_t st = machine_load_program(m, g, prog, NULL, 0);
+        if (st != PP5_OK) {
+            return st;
+        }
+    }
+    return PP5_OK;
+}
+
 void machine_describe_busy(void *ctx, char *buf, size_t n)
 {
     machine_t *m = ctx;
@@ -272,14 +283,9 @@ void machine_describe_busy(void *ctx, char *buf, size_t n)
 #undef APPEND
 }
 
-pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
+/* Latest instant any unit is busy until. */
+static pp5_tick_t machine_last_activity(const machine_t *m)
 {
-    pp5_tick_t start = m->sched.now;
-    double budget_ps = m->params.sim_budget_s * 1e12;
-    pp5_tick_t budget_end = start + (pp5_tick_t)budget_ps;
-    pp5_status_t st = sched_run_budget(&m->sched, budget_end, stop);
-    /* Last activity of any unit (events end at deliveries; GPs and renderers
-     * may stay busy after their last event). */
     pp5_tick_t end = m->sched.now;
     for (unsigned i = 0; i < m->n_gp; i++) {
         end = tick_max(end, m->gp[i].local_ps);
@@ -287,11 +293,62 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     for (unsigned i = 0; i < m->n_rn; i++) {
         end = tick_max(end, m->rn[i].busy_until);
     }
+    return end;
+}
+
+pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
+{
+    pp5_tick_t start = m->sched.now;
+    pp5_tick_t budget_end = start + (pp5_tick_t)(m->params.sim_budget_s * 1e12);
+    pp5_status_t st = sched_run_budget(&m->sched, budget_end, stop);
+    pp5_tick_t end = machine_last_activity(m);
+    m->setup_ps += end - start;
+    for (unsigned i = 0; i < m->n_gp; i++) {
+        m->gp[i].setup_busy_ps = m->gp[i].busy_ps;
+        m->gp[i].setup_busy_cycles = m->gp[i].busy_cycles;
+    }
+    for (unsigned i = 0; i < m->n_rn; i++) {
+        m->rn[i].setup_busy_ps = m->rn[i].busy_ps;
+    }
+    m->sched.now = tick_max(end, m->sched.now);
+    return st;
+}
+
+pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
+{
+    pp5_tick_t start = m->sched.now;
+    double budget_ps = m->params.sim_budget_s * 1e12;
+    pp5_tick_t budget_end = start + (pp5_tick_t)budget_ps;
+    pp5_tick_t busy0[MACHINE_MAX_CHANNELS];
+    uint64_t bytes0[RING_CLASS_COUNT];
+    for (unsigned c = 0; c < m->ring.n_channels; c++) {
+        busy0[c] = m->ring.ch[c].busy_ticks;
+    }
+    memcpy(bytes0, m->ring.bytes_sent, sizeof bytes0);
+    pp5_status_t st = host_start_frame(&m->host, m->n_gp, m->n_frames, start);
+    if (st != PP5_OK) {
+        *stop = SCHED_ERROR;
+        return st;
+    }
+    st = sched_run_budget(&m->sched, budget_end, stop);
+    /* Last activity of any unit (events end at deliveries; GPs and renderers
+     * may stay busy after their last event). */
+    pp5_tick_t end = machine_last_activity(m);
     if (*stop == SCHED_BUDGET_EXCEEDED) {
         end = budget_end;
     }
     if (m->n_frames < MACHINE_MAX_FRAMES) {
-        m->frames[m->n_frames++] = (machine_frame_t){ start, end, *stop };
+        machine_frame_t *f = &m->frames[m->n_frames++];
+        memset(f, 0, sizeof *f);
+        f->start_ps = start;
+        f->end_ps = end;
+        f->stop = *stop;
+        for (unsigned c = 0; c < m->ring.n_channels; c++) {
+            f->ch_busy_ps[c] = m->ring.ch[c].busy_ticks - busy0[c];
+        }
+        for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+            f->bytes_by_class[k] = m->ring.bytes_sent[k] - bytes0[k];
+        }
     }
     m->sched.now = end > m->sched.now ? end : m->sched.now;
     fb_end_frame(&m->fb);

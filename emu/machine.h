@@ -6,7 +6,9 @@
  * n_r - j hops to the FB and a GP's command to renderer j travels
  * n_gp - g + j hops.
  *
- * A frame runs until the event queue is empty (IDLE: all work done) or the
+ * machine_run_setup runs the loads (HOST_LOAD, on_start) to completion and
+ * is not a frame.  A frame starts with the host sending FRAME_START to every
+ * GP (in GP order) and runs until the event queue is empty (IDLE: all work done) or the
  * emulated-time budget sim.budget_s is exceeded (BUDGET_EXCEEDED, naming the
  * busy units) or a unit reports a firmware error (FIRMWARE_ERROR).  The frame
  * time is from the frame's start to the last activity of any unit (last ring
@@ -29,9 +31,15 @@
 
 #define MACHINE_MAX_FRAMES 64
 
+#define MACHINE_MAX_CHANNELS 64   /* = the ring.channels maximum */
+
+/* One frame: its span and the ring activity inside it (the load phase and
+ * earlier frames excluded), for per-frame utilisation. */
 typedef struct {
     pp5_tick_t start_ps, end_ps;
     sched_stop_t stop;
+    pp5_tick_t ch_busy_ps[MACHINE_MAX_CHANNELS];
+    uint64_t bytes_by_class[RING_CLASS_COUNT];
 } machine_frame_t;
 
 typedef struct {
@@ -48,6 +56,7 @@ typedef struct {
     uint32_t tid_host, tid_gp0, tid_rn0, tid_ch0, tid_fb;
     machine_frame_t frames[MACHINE_MAX_FRAMES];
     unsigned n_frames;
+    pp5_tick_t setup_ps;              /* time spent in machine_run_setup */
 } machine_t;
 
 pp5_status_t machine_init(machine_t *m, const pp5_params_t *p);
@@ -64,6 +73,12 @@ pp5_status_t machine_send(machine_t *m, const ring_msg_t *msg, pp5_tick_t t);
  * current time; on_start runs when the load arrives. */
 pp5_status_t machine_load_program(machine_t *m, unsigned gp, const fw_program_t *prog, const void *data,
                                   size_t data_bytes);
+
+/* The same program on every GP (no data). */
+pp5_status_t machine_load_all(machine_t *m, const fw_program_t *prog);
+
+/* Run until idle without recording a frame (program loading). */
+pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop);
 
 /* Run one frame (see above).  Returns PP5_OK when the machine went idle. */
 pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop);

@@ -42,6 +42,7 @@ typedef struct {
     uint32_t cycles_per_bit, msg_cycles;
     pp5_tick_t busy_until;
     pp5_tick_t busy_ps;
+    pp5_tick_t setup_busy_ps;        /* part of busy_ps spent in machine_run_setup */
     uint64_t cycles;                 /* all renderer cycles charged (exec + port) */
     uint64_t exec_cycles, port_cycles, messages;
     rnode_item_t *fifo;

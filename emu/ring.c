@@ -23,8 +23,8 @@ pp5_status_t ring_init(ring_t *r, const ring_config_t *cfg, sched_t *sched,
     r->deliver = deliver;
     r->deliver_ctx = deliver_ctx;
     r->ch = calloc(cfg->channels, sizeof *r->ch);
-    r->tx_free_at = calloc(cfg->n_nodes, sizeof *r->tx_free_at);
-    if (!r->ch || !r->tx_free_at) {
+    r->port = calloc(cfg->n_nodes, sizeof *r->port);
+    if (!r->ch || !r->port) {
         ring_free(r);
         return pp5_fail(PP5_E_NOMEM, "ring: out of memory");
     }
@@ -39,7 +39,12 @@ void ring_free(ring_t *r)
     free(r->flights);
     free(r->free_slots);
     free(r->ch);
-    free(r->tx_free_at);
+    if (r->port) {
+        for (unsigned i = 0; i < r->n_nodes; i++) {
+            free(r->port[i].slot);
+        }
+    }
+    free(r->port);
     memset(r, 0, sizeof *r);
 }
 
@@ -104,16 +109,97 @@ static pp5_status_t ring_take_slot(ring_t *r, uint32_t *slot)
     return PP5_OK;
 }
 
-pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos,
-                       pp5_tick_t t, pp5_tick_t *arrival_out)
+static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now);
+
+static pp5_status_t ring_schedule_pump(ring_t *r, unsigned pos)
+{
+    ring_port_t *p = &r->port[pos];
+    if (p->pump_scheduled || p->count == 0) {
+        return PP5_OK;
+    }
+    pp5_tick_t when = tick_max(r->flights[p->slot[p->head]].ready, p->tx_free_at);
+    when = tick_max(when, r->sched->now);
+    p->pump_scheduled = 1;
+    return sched_at(r->sched, when, RING_PRIO_ARBITRATE, ring_pump, r, pos);
+}
+
+/* The head of node `pos`'s FIFO is ready and its transmitter free: pick a
+ * channel, occupy it, schedule the arrival. */
+static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
+{
+    ring_t *r = ctx;
+    ring_port_t *p = &r->port[pos];
+    p->pump_scheduled = 0;
+    PP5_ASSERT(p->count > 0, "ring pump with an empty FIFO");
+    uint32_t slot = p->slot[p->head];
+    p->head = (p->head + 1) % p->cap;
+    p->count--;
+    ring_flight_t *f = &r->flights[slot];
+
+    unsigned best = 0;
+    int found_free = 0;
+    for (unsigned c = 0; c < r->n_channels; c++) {
+        if (r->ch[c].free_at <= now) {
+            best = c;
+            found_free = 1;
+            break;
+        }
+    }
+    if (!found_free) {
+        for (unsigned c = 1; c < r->n_channels; c++) {
+            if (r->ch[c].free_at < r->ch[best].free_at) {
+                best = c;
+            }
+        }
+    }
+    ring_channel_t *ch = &r->ch[best];
+    uint64_t wire = ring_wire_bytes(r, &f->msg);
+    pp5_tick_t ser = ring_serialise_ps(r, wire);
+    pp5_tick_t start = tick_max(now, ch->free_at);
+    pp5_tick_t end = start + ser;
+    pp5_tick_t arrival = end + (pp5_tick_t)ring_hops(r, f->src_pos, f->dst_pos) * r->hop_ps;
+    ch->free_at = end;
+    ch->busy_ticks += ser;
+    ch->bytes += wire;
+    ch->messages++;
+    ch->bytes_by_class[f->msg.cls] += wire;
+    p->tx_free_at = end;
+    if (r->trace) {
+        r->trace(r->trace_ctx, best, &f->msg, start, end, arrival);
+    }
+    pp5_status_t st = sched_at(r->sched, arrival, SCHED_PRIO_DELIVER, ring_arrive, r, slot);
+    if (st == PP5_OK) {
+        st = ring_schedule_pump(r, (unsigned)pos);
+    }
+    return st;
+}
+
+pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos, pp5_tick_t t)
 {
     PP5_ASSERT(src_pos < r->n_nodes && dst_pos < r->n_nodes, "ring position out of range");
     PP5_ASSERT(msg->cls < RING_CLASS_COUNT, "bad traffic class");
-    /* Channel that frees up first; ties to the lowest index. */
-    unsigned best = 0;
-    for (unsigned c = 1; c < r->n_channels; c++) {
-        if (r->ch[c].free_at < r->ch[best].free_at) {
-            best = c;
+    PP5_ASSERT(t >= r->sched->now, "ring send in the past");
+    ring_port_t *p = &r->port[src_pos];
+    if (p->count == p->cap) {
+        size_t cap = p->cap ? p->cap * 2 : 16;
+        uint32_t *q = malloc(cap * sizeof *q);
+        if (!q) {
+            return pp5_fail(PP5_E_NOMEM, "ring: out of memory for a node FIFO");
+        }
+        for (size_t i = 0; i < p->count; i++) {
+            q[i] = p->slot[(p->head + i) % p->cap];
+        }
+        free(p->slot);
+        p->slot = q;
+        p->head = 0;
+        p->cap = cap;
+    }
+    if (p->count > 0) {
+        /* Send times of one node never decrease (units send at their own
+         * advancing clocks); keep FIFO order meaningful. */
+        uint32_t last = p->slot[(p->head + p->count - 1) % p->cap];
+        if (t < r->flights[last].ready) {
+            t = r->flights[last].ready;
         }
     }
     uint32_t slot = 0;
@@ -135,28 +221,15 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
     }
     f->msg.payload = f->payload_copy;
     f->in_use = 1;
-
-    ring_channel_t *ch = &r->ch[best];
+    f->src_pos = src_pos;
+    f->dst_pos = dst_pos;
+    f->ready = t;
     uint64_t wire = ring_wire_bytes(r, msg);
-    pp5_tick_t ser = ring_serialise_ps(r, wire);
-    pp5_tick_t start = tick_max(t, tick_max(ch->free_at, r->tx_free_at[src_pos]));
-    pp5_tick_t end = start + ser;
-    pp5_tick_t arrival = end + (pp5_tick_t)ring_hops(r, src_pos, dst_pos) * r->hop_ps;
-    ch->free_at = end;
-    ch->busy_ticks += ser;
-    ch->bytes += wire;
-    ch->messages++;
-    ch->bytes_by_class[msg->cls] += wire;
-    r->tx_free_at[src_pos] = end;
     r->bytes_sent[msg->cls] += wire;
     r->msgs_sent[msg->cls]++;
-    if (r->trace) {
-        r->trace(r->trace_ctx, best, &f->msg, start, end, arrival);
-    }
-    if (arrival_out) {
-        *arrival_out = arrival;
-    }
-    return sched_at(r->sched, arrival, SCHED_PRIO_DELIVER, ring_arrive, r, slot);
+    p->slot[(p->head + p->count) % p->cap] = slot;
+    p->count++;
+    return ring_schedule_pump(r, src_pos);
 }
 
 uint64_t ring_total_bytes_sent(const ring_t *r)

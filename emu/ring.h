@@ -6,12 +6,14 @@
  * 1-D unidirectional ring (facts §5.1 S10); a message from position s to d
  * passes hops = (d - s) mod n_nodes nodes.  A message of W = header_bytes +
  * payload_bytes bytes
- *   - picks a channel: the one that becomes free earliest, ties to the lowest
- *     index (deterministic; a sender with a queue of messages therefore
- *     spreads them over free channels);
- *   - starts at max(send time, channel free, sender's transmitter free): a
- *     node injects one message at a time, so messages between one pair of
- *     nodes arrive in the order they were sent;
+ *   - waits in its sender's output FIFO: a node injects one message at a
+ *     time, so messages between one pair of nodes arrive in send order;
+ *   - when it reaches the head of that FIFO and its send time has come
+ *     (arbitration happens in emulated-time order, as scheduler events),
+ *     picks a channel: the lowest-numbered channel free at that instant, or
+ *     if none is free the one that frees first (ties to the lowest index);
+ *     deterministic;
+ *   - starts at max(that instant, channel free);
  *   - occupies the channel for ceil(W / (width_bits/8)) ring cycles
  *     (serialisation), then arrives hops x hop_cycles ring cycles later.
  * Contention: a busy channel delays later messages (queueing in send order).
@@ -31,6 +33,9 @@
 #include "pp5_time.h"
 #include "ring_msg.h"
 #include "sched.h"
+
+/* Arbitration runs after deliveries and before unit work at one instant. */
+#define RING_PRIO_ARBITRATE 15
 #include "util/status.h"
 
 typedef struct {
@@ -51,7 +56,17 @@ typedef struct {
     ring_msg_t msg;
     void *payload_copy;
     int in_use;
+    unsigned src_pos, dst_pos;
+    pp5_tick_t ready;               /* send time */
 } ring_flight_t;
+
+/* A node's output FIFO of flight slots. */
+typedef struct {
+    uint32_t *slot;
+    size_t head, count, cap;
+    pp5_tick_t tx_free_at;
+    int pump_scheduled;
+} ring_port_t;
 
 typedef struct {
     unsigned n_channels, n_nodes;
@@ -59,7 +74,7 @@ typedef struct {
     pp5_tick_t hop_ps;             /* latency per hop */
     uint32_t width_bytes, header_bytes;
     ring_channel_t *ch;
-    pp5_tick_t *tx_free_at;        /* per node position */
+    ring_port_t *port;             /* per node position */
     sched_t *sched;
     ring_deliver_fn deliver;
     void *deliver_ctx;
@@ -90,10 +105,11 @@ uint64_t ring_wire_bytes(const ring_t *r, const ring_msg_t *msg);
 pp5_tick_t ring_serialise_ps(const ring_t *r, uint64_t wire_bytes);
 unsigned ring_hops(const ring_t *r, unsigned src_pos, unsigned dst_pos);
 
-/* Send msg (payload copied) from src_pos to dst_pos at time t (>= now).
- * The arrival is scheduled on r->sched; *arrival_out (optional) gets it. */
+/* Send msg (payload copied) from src_pos to dst_pos at time t (>= now):
+ * it joins the sender's FIFO; channel arbitration and arrival are
+ * scheduler events on r->sched. */
 pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos,
-                       pp5_tick_t t, pp5_tick_t *arrival_out);
+                       pp5_tick_t t);
 
 uint64_t ring_total_bytes_sent(const ring_t *r);
 pp5_tick_t ring_total_busy_ticks(const ring_t *r);

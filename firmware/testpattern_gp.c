@@ -88,6 +88,7 @@ static fw_status_t send_region(gp_t *gp, tp_state_t *s, unsigned renderer, unsig
     return fw_send(gp, dst, RING_MSG_RENDERER_SEND_PIXELS, px, NULL, 0);
 }
 
+/* Loaded: build the disc table in local memory. */
 static fw_status_t tp_start(gp_t *gp)
 {
     const fw_machine_info_t *mi = fw_machine_info(gp);
@@ -106,7 +107,14 @@ static fw_status_t tp_start(gp_t *gp)
         ops.stores += 5;
     }
     fw_charge(gp, &ops);
+    return FW_OK;
+}
 
+/* One frame: every region of this GP's renderers. */
+static fw_status_t tp_frame(gp_t *gp)
+{
+    const fw_machine_info_t *mi = fw_machine_info(gp);
+    tp_state_t *s = fw_state(gp);
     unsigned regions_x = mi->screen_width / mi->region_width;
     unsigned n_regions = regions_x * (mi->screen_height / mi->region_height);
     unsigned g = fw_gp_index(gp);
@@ -135,6 +143,9 @@ static fw_status_t tp_start(gp_t *gp)
 
 static fw_status_t tp_message(gp_t *gp, const ring_msg_t *msg)
 {
+    if (msg->kind == RING_MSG_FRAME_START) {
+        return tp_frame(gp);
+    }
     return fw_fail(gp, "test pattern: unexpected message kind %u", msg->kind);
 }
 

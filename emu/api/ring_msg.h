@@ -21,12 +21,14 @@
  *   RENDERER_DATA           any       tag     bits   -        -          -     16384 x uint32
  *   FB_PIXELS               fb        x       y      w        h          -     w*h*3 bytes RGB8, row-major
  *   FB_SWAP                 fb        -       -      -        -          -     none (show the back buffer)
- *   HOST_LOAD               gp        -       -      -        -          -     firmware image + data bytes
+ *   HOST_LOAD               gp        image   -      -        -          -     image_bytes of program image, then data
+ *   FRAME_START             gp        frame   -      -        -          -     none (host: start frame number a[0])
  *   GP_USER                 gp        free for firmware use                     any
  *
  * PP data words travel as one 32-bit word per PP whatever the field width
  * ([U]: the renderer port format is unknown, facts §3.5 / open question 4).
  * reply_to is a packed address, ring_addr_pack(). */
+/* changed: FRAME_START kind added after GP_USER. */
 #ifndef PP5_RING_MSG_H
 #define PP5_RING_MSG_H
 
@@ -87,6 +89,7 @@ typedef enum {
     RING_MSG_FB_SWAP,
     RING_MSG_HOST_LOAD,
     RING_MSG_GP_USER,
+    RING_MSG_FRAME_START,     /* changed: added (emu-core), host -> GP */
     RING_MSG_KIND_COUNT
 } ring_msg_kind_t;
 
