@@ -77,142 +77,212 @@ static void exec_flag(pp_array_t *A, const pp_insn_t *in)
     }
 }
 
+/* Kernels below are written once as always-inline functions whose op/mode and
+ * "block fully enabled" arguments are compile-time constants at each call, so
+ * every combination is compiled branch-free; the dispatchers are cloned for
+ * AVX2 where the compiler and CPU support it (same results, chosen at load). */
+#define INLINE static inline __attribute__((always_inline))
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define PP_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PP_CLONES
+#endif
+
+/* True when every PP of the block at word w is enabled: stores need no merge. */
+static bool block_full(const pp_array_t *A, unsigned w)
+{
+    uint64_t all = ~(uint64_t)0;
+    for (unsigned v = 0; v < BW; v++)
+        all &= A->en[w + v];
+    return all == ~(uint64_t)0;
+}
+
+/* Masked store of r to pd (whole-block enable known at compile time). */
+#define STORE(pd, ev, r, full) \
+    do { if (full) st((pd), (r)); else st((pd), merge((ev), (r), ld(pd))); } while (0)
+
 /* ---- n-bit logic, moves and shifts: d[i] = f(a[src(i)], b[i]) ---- */
 
-static void exec_logic(pp_array_t *A, const pp_insn_t *in)
+/* Source plane of step i for the shift/copy family (the zero plane past the field). */
+static const uint64_t *logic_src(const pp_array_t *A, const pp_insn_t *in, unsigned i)
 {
-    const unsigned n = in->n, op = in->op, k = in->x;
-    const v4_t zero = splat(0);
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
-        v4_t e[BLK], f[BLK];
+    const unsigned n = in->n, k = in->x;
+    switch (in->op) {
+    case PP_OP_SHL: return i >= k ? A->mem[in->a + i - k] : A->zero;
+    case PP_OP_SHR: return i + k < n ? A->mem[in->a + i + k] : A->zero;
+    case PP_OP_SAR: return A->mem[in->a + (i + k < n ? i + k : n - 1)];
+    default: return A->mem[in->a + i];
+    }
+}
+
+INLINE void logic_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsigned op,
+                        const bool full)
+{
+    const unsigned n = in->n;
+    v4_t e[BLK], f[BLK];
+    for (unsigned v = 0; v < BLK; v++) {
+        e[v] = ld(A->en + w + v * VW);
+        f[v] = ld(A->flag + w + v * VW);
+    }
+    for (unsigned step = 0; step < n; step++) {
+        /* SHL runs MSB first so that an in-place shift reads unmodified bits. */
+        unsigned i = op == PP_OP_SHL ? n - 1 - step : step;
+        uint64_t *pd = A->mem[in->d + i] + w;
+        const uint64_t *pa = op == PP_OP_SETI ? A->zero : logic_src(A, in, i) + w;
+        const uint64_t *pb = (op == PP_OP_AND || op == PP_OP_OR || op == PP_OP_XOR ||
+                              op == PP_OP_SEL) ? A->mem[in->b + i] + w : A->zero;
+        const v4_t konst = splat(op == PP_OP_SETI ? imm_bit(in, i) : 0);
         for (unsigned v = 0; v < BLK; v++) {
-            e[v] = ld(A->en + w + v * VW);
-            f[v] = ld(A->flag + w + v * VW);
-        }
-        for (unsigned step = 0; step < n; step++) {
-            /* SHL runs MSB first so that an in-place shift reads unmodified bits. */
-            unsigned i = op == PP_OP_SHL ? n - 1 - step : step;
-            uint64_t *pd = A->mem[in->d + i] + w;
-            const uint64_t *pa = NULL, *pb = NULL;
-            uint64_t konst = 0;
+            v4_t av = ld(pa + v * VW), bv = ld(pb + v * VW), r;
             switch (op) {
-            case PP_OP_SETI: konst = imm_bit(in, i); break;
-            case PP_OP_SHL: if (i >= k) pa = A->mem[in->a + i - k] + w; break;
-            case PP_OP_SHR: if (i + k < n) pa = A->mem[in->a + i + k] + w; break;
-            case PP_OP_SAR: pa = A->mem[in->a + (i + k < n ? i + k : n - 1)] + w; break;
-            case PP_OP_AND: case PP_OP_OR: case PP_OP_XOR: case PP_OP_SEL:
-                pb = A->mem[in->b + i] + w;
-                pa = A->mem[in->a + i] + w;
-                break;
-            default: pa = A->mem[in->a + i] + w; break;   /* COPY, NOT */
+            case PP_OP_NOT: r = ~av; break;
+            case PP_OP_AND: r = av & bv; break;
+            case PP_OP_OR: r = av | bv; break;
+            case PP_OP_XOR: r = av ^ bv; break;
+            case PP_OP_SEL: r = (av & f[v]) | (bv & ~f[v]); break;
+            case PP_OP_SETI: r = konst; break;
+            default: r = av; break;   /* COPY, SHL, SHR, SAR */
             }
-            for (unsigned v = 0; v < BLK; v++) {
-                v4_t av = pa ? ld(pa + v * VW) : zero;
-                v4_t bv = pb ? ld(pb + v * VW) : zero;
-                v4_t r;
-                switch (op) {
-                case PP_OP_NOT: r = ~av; break;
-                case PP_OP_AND: r = av & bv; break;
-                case PP_OP_OR: r = av | bv; break;
-                case PP_OP_XOR: r = av ^ bv; break;
-                case PP_OP_SEL: r = (av & f[v]) | (bv & ~f[v]); break;
-                case PP_OP_SETI: r = splat(konst); break;
-                default: r = av; break;   /* COPY, SHL, SHR, SAR */
-                }
-                st(pd + v * VW, merge(e[v], r, ld(pd + v * VW)));
-            }
+            STORE(pd + v * VW, e[v], r, full);
         }
+    }
+}
+
+#define LOGIC_CASE(OP)                                                         \
+    case OP:                                                                   \
+        for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {                     \
+            if (block_full(A, w)) logic_block(A, in, w, OP, true);            \
+            else logic_block(A, in, w, OP, false);                             \
+        }                                                                      \
+        break;
+
+PP_CLONES static void exec_logic(pp_array_t *A, const pp_insn_t *in)
+{
+    switch (in->op) {
+    LOGIC_CASE(PP_OP_NOT)
+    LOGIC_CASE(PP_OP_AND)
+    LOGIC_CASE(PP_OP_OR)
+    LOGIC_CASE(PP_OP_XOR)
+    LOGIC_CASE(PP_OP_SEL)
+    LOGIC_CASE(PP_OP_SETI)
+    LOGIC_CASE(PP_OP_SHL)
+    default:
+    LOGIC_CASE(PP_OP_COPY)      /* COPY, SHR, SAR: d = a[src(i)] */
     }
 }
 
 /* ---- add / subtract / add immediate: ripple carry, LSB first; F = carry or borrow ---- */
 
-static void exec_add(pp_array_t *A, const pp_insn_t *in)
+INLINE void add_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsigned op,
+                      const bool full)
 {
-    const unsigned n = in->n, op = in->op;
-    const bool sub = op == PP_OP_SUB;
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
-        v4_t e[BLK], c[BLK];
+    const bool sub = op == PP_OP_SUB, addi = op == PP_OP_ADDI;
+    v4_t e[BLK], c[BLK];
+    for (unsigned v = 0; v < BLK; v++) {
+        e[v] = ld(A->en + w + v * VW);
+        c[v] = splat(sub ? ~(uint64_t)0 : 0);     /* a - b = a + ~b + 1 */
+    }
+    for (unsigned i = 0; i < in->n; i++) {
+        const uint64_t *pa = A->mem[in->a + i] + w;
+        const uint64_t *pb = addi ? A->zero : A->mem[in->b + i] + w;
+        uint64_t *pd = A->mem[in->d + i] + w;
+        const v4_t kb = splat(addi ? imm_bit(in, i) : 0);
         for (unsigned v = 0; v < BLK; v++) {
-            e[v] = ld(A->en + w + v * VW);
-            c[v] = splat(sub ? ~(uint64_t)0 : 0);     /* a - b = a + ~b + 1 */
+            v4_t av = ld(pa + v * VW);
+            v4_t bv = addi ? kb : ld(pb + v * VW);
+            if (sub)
+                bv = ~bv;
+            v4_t x = av ^ bv;
+            v4_t s = x ^ c[v];
+            c[v] = (av & bv) | (c[v] & x);
+            STORE(pd + v * VW, e[v], s, full);
         }
-        for (unsigned i = 0; i < n; i++) {
-            const uint64_t *pa = A->mem[in->a + i] + w;
-            const uint64_t *pb = op == PP_OP_ADDI ? NULL : A->mem[in->b + i] + w;
-            uint64_t *pd = A->mem[in->d + i] + w;
-            v4_t kb = splat(op == PP_OP_ADDI ? imm_bit(in, i) : 0);
-            for (unsigned v = 0; v < BLK; v++) {
-                v4_t av = ld(pa + v * VW);
-                v4_t bv = pb ? ld(pb + v * VW) : kb;
-                if (sub)
-                    bv = ~bv;
-                v4_t x = av ^ bv;
-                v4_t s = x ^ c[v];
-                c[v] = (av & bv) | (c[v] & x);
-                st(pd + v * VW, merge(e[v], s, ld(pd + v * VW)));
-            }
-        }
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t out = sub ? ~c[v] : c[v];
-            st(A->flag + w + v * VW, merge(e[v], out, ld(A->flag + w + v * VW)));
-        }
+    }
+    for (unsigned v = 0; v < BLK; v++) {
+        v4_t out = sub ? ~c[v] : c[v];
+        st(A->flag + w + v * VW, merge(e[v], out, ld(A->flag + w + v * VW)));
+    }
+}
+
+#define ADD_CASE(OP)                                                           \
+    case OP:                                                                   \
+        for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {                     \
+            if (block_full(A, w)) add_block(A, in, w, OP, true);              \
+            else add_block(A, in, w, OP, false);                               \
+        }                                                                      \
+        break;
+
+PP_CLONES static void exec_add(pp_array_t *A, const pp_insn_t *in)
+{
+    switch (in->op) {
+    ADD_CASE(PP_OP_SUB)
+    ADD_CASE(PP_OP_ADDI)
+    default:
+    ADD_CASE(PP_OP_ADD)
     }
 }
 
 /* ---- compare into F: equality by an xor chain, order by a serial subtract ---- */
 
-static void exec_cmp(pp_array_t *A, const pp_insn_t *in)
+INLINE void cmp_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const bool imm)
 {
     const unsigned n = in->n, cond = in->x;
     const bool is_signed = cond == PP_COND_LTS || cond == PP_COND_GES;
+    v4_t e[BLK], c[BLK], diff[BLK];
+    for (unsigned v = 0; v < BLK; v++) {
+        e[v] = ld(A->en + w + v * VW);
+        c[v] = splat(~(uint64_t)0);
+        diff[v] = splat(0);
+    }
+    for (unsigned i = 0; i < n; i++) {
+        const uint64_t *pa = A->mem[in->a + i] + w;
+        const uint64_t *pb = imm ? A->zero : A->mem[in->b + i] + w;
+        const v4_t kb = splat(imm ? imm_bit(in, i) : 0);
+        /* Signed order = unsigned order with both sign bits inverted. */
+        const v4_t flip = splat(is_signed && i == n - 1 ? ~(uint64_t)0 : 0);
+        for (unsigned v = 0; v < BLK; v++) {
+            v4_t av = ld(pa + v * VW) ^ flip;
+            v4_t bv = (imm ? kb : ld(pb + v * VW)) ^ flip;
+            v4_t nb = ~bv;
+            diff[v] |= av ^ bv;
+            c[v] = (av & nb) | (c[v] & (av ^ nb));
+        }
+    }
+    for (unsigned v = 0; v < BLK; v++) {
+        v4_t r;
+        switch (cond) {
+        case PP_COND_EQ: r = ~diff[v]; break;
+        case PP_COND_NE: r = diff[v]; break;
+        case PP_COND_LTU: case PP_COND_LTS: r = ~c[v]; break;   /* borrow */
+        default: r = c[v]; break;                                /* GEU, GES */
+        }
+        st(A->flag + w + v * VW, merge(e[v], r, ld(A->flag + w + v * VW)));
+    }
+}
+
+PP_CLONES static void exec_cmp(pp_array_t *A, const pp_insn_t *in)
+{
     for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
-        v4_t e[BLK], c[BLK], diff[BLK];
-        for (unsigned v = 0; v < BLK; v++) {
-            e[v] = ld(A->en + w + v * VW);
-            c[v] = splat(~(uint64_t)0);
-            diff[v] = splat(0);
-        }
-        for (unsigned i = 0; i < n; i++) {
-            const uint64_t *pa = A->mem[in->a + i] + w;
-            const uint64_t *pb = in->op == PP_OP_CMPI ? NULL : A->mem[in->b + i] + w;
-            v4_t kb = splat(in->op == PP_OP_CMPI ? imm_bit(in, i) : 0);
-            /* Signed order = unsigned order with both sign bits inverted. */
-            v4_t flip = splat(is_signed && i == n - 1 ? ~(uint64_t)0 : 0);
-            for (unsigned v = 0; v < BLK; v++) {
-                v4_t av = ld(pa + v * VW) ^ flip;
-                v4_t bv = (pb ? ld(pb + v * VW) : kb) ^ flip;
-                v4_t nb = ~bv;
-                diff[v] |= av ^ bv;
-                c[v] = (av & nb) | (c[v] & (av ^ nb));
-            }
-        }
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t r;
-            switch (cond) {
-            case PP_COND_EQ: r = ~diff[v]; break;
-            case PP_COND_NE: r = diff[v]; break;
-            case PP_COND_LTU: case PP_COND_LTS: r = ~c[v]; break;   /* borrow */
-            default: r = c[v]; break;                                /* GEU, GES */
-            }
-            st(A->flag + w + v * VW, merge(e[v], r, ld(A->flag + w + v * VW)));
-        }
+        if (in->op == PP_OP_CMPI)
+            cmp_block(A, in, w, true);
+        else
+            cmp_block(A, in, w, false);
     }
 }
 
 /* ---- shift-add multiply (d disjoint from the sources: checked by the decoder) ---- */
 
-/* Plane of bit i of ext(src(m)), or NULL for a zero bit. */
+/* Plane of bit i of ext(src(m)) (the zero plane past an unsigned field). */
 static const uint64_t *ext_plane(const pp_array_t *A, unsigned src, unsigned m, bool sgn,
                                  unsigned i)
 {
     if (i < m)
         return A->mem[src + i];
-    return sgn ? A->mem[src + m - 1] : NULL;
+    return sgn ? A->mem[src + m - 1] : A->zero;
 }
 
 /* Where mask: d[j..n) += ext(a) << j. */
-static void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v4_t *mask,
+INLINE void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v4_t *mask,
                          unsigned j)
 {
     const bool sgn = in->mod & 1u;
@@ -223,7 +293,7 @@ static void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v
         const uint64_t *pa = ext_plane(A, in->a, in->m, sgn, i - j);
         uint64_t *pd = A->mem[in->d + i] + w;
         for (unsigned v = 0; v < BLK; v++) {
-            v4_t av = pa ? ld(pa + w + v * VW) : splat(0);
+            v4_t av = ld(pa + w + v * VW);
             v4_t dv = ld(pd + v * VW);
             v4_t x = av ^ dv;
             v4_t s = x ^ c[v];
@@ -233,7 +303,7 @@ static void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v
     }
 }
 
-static void exec_mul(pp_array_t *A, const pp_insn_t *in)
+PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
 {
     const unsigned n = in->n;
     const bool sgn = in->mod & 1u;
@@ -255,9 +325,9 @@ static void exec_mul(pp_array_t *A, const pp_insn_t *in)
                     mask[v] = bit ? e[v] : splat(0);
                 any = bit;
             } else {
-                const uint64_t *pb = ext_plane(A, in->b, in->m, sgn, j);
-                if (!pb)
+                if (!sgn && j >= in->m)
                     break;                  /* unsigned: no more multiplier bits */
+                const uint64_t *pb = ext_plane(A, in->b, in->m, sgn, j);
                 for (unsigned v = 0; v < BLK; v++)
                     mask[v] = e[v] & ld(pb + w + v * VW);
                 any = true;

@@ -21,9 +21,12 @@
 #define PP_QEE_MAX_BITS (PP_QEE_MAX_SHIFT + 1 + PP_MEM_BITS)
 
 typedef struct pp_array {
-    uint64_t mem[PP_MEM_BITS][PP_PLANE_WORDS];
+    /* Planes are padded by one cache line so that the same word of successive
+     * planes falls in different L1 sets (a 2 KB stride would use only two). */
+    uint64_t mem[PP_MEM_BITS][PP_PLANE_WORDS + 8];
     uint64_t en[PP_PLANE_WORDS];
     uint64_t flag[PP_PLANE_WORDS];
+    uint64_t zero[PP_PLANE_WORDS];     /* always zero: the source of constant-0 bits */
     uint64_t qee_scratch[4 * PP_QEE_MAX_BITS];
 } pp_array_t;
 

@@ -47,43 +47,54 @@ unsigned qee_serial_next_bit(qee_serial_t *s)
     return sum & 1u;
 }
 
-/* Bit-sliced add of `bits` planes: acc += addend (both 2 words per plane). */
-static void row_add(uint64_t *acc, const uint64_t *addend, unsigned bits)
+/* The two words of a 128-PP row as one vector (SSE2 on x86-64, pairs elsewhere). */
+typedef uint64_t v2_t __attribute__((vector_size(16), aligned(8), may_alias));
+#define LD2(p) (*(const v2_t *)(const void *)(p))
+#define ST2(p, v) (*(v2_t *)(void *)(p) = (v))
+
+/* Per row: acc += addend (bit-sliced, `bits` planes of 2 words), then
+ * acc += constant v (sign-extended) in every lane.  One pass, two carries. */
+static void row_step(uint64_t *acc, const uint64_t *addend, int64_t v, unsigned bits)
 {
-    uint64_t c0 = 0, c1 = 0;
+    v2_t c1 = {0, 0}, c2 = {0, 0};
     for (unsigned k = 0; k < bits; k++) {
-        uint64_t a0 = acc[2 * k], a1 = acc[2 * k + 1];
-        uint64_t b0 = addend[2 * k], b1 = addend[2 * k + 1];
-        acc[2 * k] = a0 ^ b0 ^ c0;
-        acc[2 * k + 1] = a1 ^ b1 ^ c1;
-        c0 = (a0 & b0) | (c0 & (a0 ^ b0));
-        c1 = (a1 & b1) | (c1 & (a1 ^ b1));
+        v2_t a = LD2(acc + 2 * k), b = LD2(addend + 2 * k);
+        v2_t x = a ^ b;
+        v2_t s = x ^ c1;
+        c1 = (a & b) | (c1 & x);
+        uint64_t kb = bit_of(v, k) ? ~(uint64_t)0 : 0;
+        v2_t K = {kb, kb};
+        v2_t y = s ^ K;
+        ST2(acc + 2 * k, y ^ c2);
+        c2 = (s & K) | (c2 & y);
     }
 }
 
-/* acc += constant v (sign-extended), in every lane. */
-static void row_add_const(uint64_t *acc, int64_t v, unsigned bits)
+/* In-place transpose of a 64x64 bit matrix (bit c of word r <-> bit r of word c)
+ * by swapping ever smaller blocks: 6 stages x 32 word pairs. */
+static void transpose64(uint64_t a[64])
 {
-    uint64_t c0 = 0, c1 = 0;
-    for (unsigned k = 0; k < bits; k++) {
-        uint64_t b = bit_of(v, k) ? ~(uint64_t)0 : 0;
-        uint64_t a0 = acc[2 * k], a1 = acc[2 * k + 1];
-        acc[2 * k] = a0 ^ b ^ c0;
-        acc[2 * k + 1] = a1 ^ b ^ c1;
-        c0 = (a0 & b) | (c0 & (a0 ^ b));
-        c1 = (a1 & b) | (c1 & (a1 ^ b));
+    uint64_t m = 0x00000000FFFFFFFFull;
+    for (unsigned j = 32; j != 0; j >>= 1, m ^= m << j) {
+        for (unsigned k = 0; k < 64; k = ((k | j) + 1) & ~j) {
+            uint64_t t = ((a[k] >> j) ^ a[k | j]) & m;
+            a[k] ^= t << j;
+            a[k | j] ^= t;
+        }
     }
 }
 
-/* Planes of 128 int64 lane values. */
+/* Planes (2 words each) of 128 int64 lane values; planes 64 and up repeat the
+ * sign plane (two's complement extended to `bits`). */
 static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
 {
-    for (unsigned k = 0; k < bits; k++) {
-        uint64_t w[2] = {0, 0};
-        for (unsigned i = 0; i < 128; i++)
-            w[i >> 6] |= (uint64_t)bit_of(v[i], k) << (i & 63);
-        planes[2 * k] = w[0];
-        planes[2 * k + 1] = w[1];
+    for (unsigned h = 0; h < 2; h++) {
+        uint64_t t[64];
+        for (unsigned i = 0; i < 64; i++)
+            t[i] = (uint64_t)v[64 * h + i];
+        transpose64(t);
+        for (unsigned k = 0; k < bits; k++)
+            planes[2 * k + h] = t[k < 64 ? k : 63];
     }
 }
 
@@ -105,8 +116,7 @@ void qee_row_planes(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
     emit(ctx, 0, row);
     for (unsigned j = 1; j < 128; j++) {
         int64_t y = (int64_t)y0 + j - 1;
-        row_add(row, colpart, bits);
-        row_add_const(row, (int64_t)q->C * (2 * y + 1) + q->E, bits);
+        row_step(row, colpart, (int64_t)q->C * (2 * y + 1) + q->E, bits);
         emit(ctx, j, row);
     }
 }
