@@ -293,3 +293,208 @@ TEST(pp_random_streams_match_reference_on_all_pps)
     free(pps);
     CHECK_EQ(failed, 0);
 }
+
+/* ---- every operation against an integer model (independent of both executors) ---- */
+
+static uint64_t mask_n(unsigned n)
+{
+    return n >= 64 ? ~(uint64_t)0 : ((uint64_t)1 << n) - 1;
+}
+
+/* v (n bits) sign-extended to int64. */
+static int64_t sext(uint64_t v, unsigned n)
+{
+    v &= mask_n(n);
+    return n < 64 && (v >> (n - 1)) & 1u ? (int64_t)(v | ~mask_n(n)) : (int64_t)v;
+}
+
+typedef struct {
+    unsigned op, n, m, k, cond;
+    bool sgn;
+    uint32_t imm;
+} model_case_t;
+
+/* Expected d and F of one PP for the operation (F_in: flag before). */
+static void model(const model_case_t *c, uint64_t a, uint64_t b, uint64_t d, unsigned f_in,
+                  uint64_t *d_out, unsigned *f_out)
+{
+    const unsigned n = c->n;
+    const uint64_t M = mask_n(n);
+    a &= M;
+    b &= M;
+    *d_out = d;
+    *f_out = f_in;
+    switch (c->op) {
+    case PP_OP_COPY: *d_out = a; break;
+    case PP_OP_NOT: *d_out = ~a & M; break;
+    case PP_OP_AND: *d_out = a & b; break;
+    case PP_OP_OR: *d_out = a | b; break;
+    case PP_OP_XOR: *d_out = a ^ b; break;
+    case PP_OP_SETI: *d_out = c->imm & M; break;
+    case PP_OP_SEL: *d_out = f_in ? a : b; break;
+    case PP_OP_SHL: *d_out = c->k >= 64 ? 0 : (a << c->k) & M; break;
+    case PP_OP_SHR: *d_out = c->k >= 64 ? 0 : a >> c->k; break;
+    case PP_OP_SAR: *d_out = (uint64_t)(sext(a, n) >> (c->k < 63 ? c->k : 63)) & M; break;
+    case PP_OP_ADD: *d_out = (a + b) & M; *f_out = (unsigned)((a + b) >> n) & 1u; break;
+    case PP_OP_SUB: *d_out = (a - b) & M; *f_out = a < b; break;
+    case PP_OP_ADDI: {
+        uint64_t i = c->imm & M;
+        *d_out = (a + i) & M;
+        *f_out = (unsigned)((a + i) >> n) & 1u;
+        break;
+    }
+    case PP_OP_CMP: case PP_OP_CMPI: {
+        uint64_t bb = c->op == PP_OP_CMPI ? (c->imm & M) : b;
+        int64_t sa = sext(a, n), sb = sext(bb, n);
+        switch (c->cond) {
+        case PP_COND_EQ: *f_out = a == bb; break;
+        case PP_COND_NE: *f_out = a != bb; break;
+        case PP_COND_LTU: *f_out = a < bb; break;
+        case PP_COND_GEU: *f_out = a >= bb; break;
+        case PP_COND_LTS: *f_out = sa < sb; break;
+        default: *f_out = sa >= sb; break;
+        }
+        break;
+    }
+    case PP_OP_MUL: case PP_OP_MULI: {
+        uint64_t am = a & mask_n(c->m), bm = b & mask_n(c->m);
+        uint64_t ea = c->sgn ? (uint64_t)sext(am, c->m) : am;
+        uint64_t eb = c->op == PP_OP_MULI ? (uint64_t)(int64_t)(int32_t)c->imm
+                                          : (c->sgn ? (uint64_t)sext(bm, c->m) : bm);
+        *d_out = (ea * eb) & M;      /* products mod 2^64, then mod 2^n (n <= 32) */
+        break;
+    }
+    case PP_OP_F_SET: *f_out = c->k & 1u; break;
+    case PP_OP_F_NOT: *f_out = !f_in; break;
+    default: break;
+    }
+}
+
+static void emit_case(pp_stream_t *s, const model_case_t *c)
+{
+    /* Fields: a at 0, b at 40, d at 80 (32 bits each region). */
+    switch (c->op) {
+    case PP_OP_COPY: pp_emit_copy(s, 80, 0, c->n); break;
+    case PP_OP_NOT: pp_emit_not(s, 80, 0, c->n); break;
+    case PP_OP_AND: pp_emit_and(s, 80, 0, 40, c->n); break;
+    case PP_OP_OR: pp_emit_or(s, 80, 0, 40, c->n); break;
+    case PP_OP_XOR: pp_emit_xor(s, 80, 0, 40, c->n); break;
+    case PP_OP_SETI: pp_emit_seti(s, 80, c->n, c->imm); break;
+    case PP_OP_SEL: pp_emit_sel(s, 80, 0, 40, c->n); break;
+    case PP_OP_SHL: pp_emit_shl(s, 80, 0, c->n, c->k); break;
+    case PP_OP_SHR: pp_emit_shr(s, 80, 0, c->n, c->k); break;
+    case PP_OP_SAR: pp_emit_sar(s, 80, 0, c->n, c->k); break;
+    case PP_OP_ADD: pp_emit_add(s, 80, 0, 40, c->n); break;
+    case PP_OP_SUB: pp_emit_sub(s, 80, 0, 40, c->n); break;
+    case PP_OP_ADDI: pp_emit_addi(s, 80, 0, c->n, c->imm); break;
+    case PP_OP_CMP: pp_emit_cmp(s, c->cond, 0, 40, c->n); break;
+    case PP_OP_CMPI: pp_emit_cmpi(s, c->cond, 0, c->n, c->imm); break;
+    case PP_OP_MUL: pp_emit_mul(s, 80, c->n, 0, 40, c->m, c->sgn); break;
+    case PP_OP_MULI: pp_emit_muli(s, 80, c->n, 0, c->m, c->sgn, (int32_t)c->imm); break;
+    case PP_OP_F_SET: pp_emit_f_set(s, c->k); break;
+    case PP_OP_F_NOT: pp_emit_f_not(s); break;
+    default: break;
+    }
+}
+
+TEST(pp_every_op_matches_an_integer_model)
+{
+    static const unsigned ops[] = {PP_OP_COPY, PP_OP_NOT, PP_OP_AND, PP_OP_OR, PP_OP_XOR,
+                                   PP_OP_SETI, PP_OP_SEL, PP_OP_SHL, PP_OP_SHR, PP_OP_SAR,
+                                   PP_OP_ADD, PP_OP_SUB, PP_OP_ADDI, PP_OP_CMP, PP_OP_CMPI,
+                                   PP_OP_MUL, PP_OP_MULI, PP_OP_F_SET, PP_OP_F_NOT};
+    static const unsigned widths[] = {1, 5, 13, 32};
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    uint32_t *a = malloc(PP_COUNT * 4), *b = malloc(PP_COUNT * 4), *d = malloc(PP_COUNT * 4),
+             *ctl = malloc(PP_COUNT * 4), *out = malloc(PP_COUNT * 4);
+    REQUIRE(a && b && d && ctl && out);
+    uint64_t s = 77;
+    unsigned cases = 0, bad = 0;
+    for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
+        for (size_t wi = 0; wi < 4; wi++)
+            for (unsigned rep = 0; rep < 3; rep++) {
+                model_case_t c = {ops[oi], widths[wi], 1 + rng_below(&s, widths[wi]),
+                                  rng_below(&s, widths[wi] + 2), rng_below(&s, PP_COND_COUNT),
+                                  rng_below(&s, 2), (uint32_t)rng_next(&s)};
+                if (c.op == PP_OP_F_SET)
+                    c.k &= 1u;
+                for (unsigned p = 0; p < PP_COUNT; p++) {
+                    a[p] = (uint32_t)rng_next(&s);
+                    /* Equal operands are a case of their own for compares. */
+                    b[p] = rng_below(&s, 4) == 0 ? a[p] : (uint32_t)rng_next(&s);
+                    d[p] = (uint32_t)rng_next(&s);
+                    ctl[p] = (uint32_t)rng_next(&s) & 3u;   /* bit 0: F, bit 1: E */
+                }
+                if (c.op == PP_OP_CMPI && rep == 0)
+                    c.imm = a[0];
+                renderer_write_field(r, 0, 32, a);
+                renderer_write_field(r, 40, 32, b);
+                renderer_write_field(r, 80, 32, d);
+                renderer_write_field(r, 120, 2, ctl);
+                pp_stream_t st;
+                pp_stream_init(&st);
+                pp_emit_en_all(&st);
+                pp_emit_f_ld(&st, 121);
+                pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
+                pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
+                emit_case(&st, &c);
+                REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
+                REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
+                            pp5_error_text());
+                pp_stream_free(&st);
+                renderer_read_field(r, 80, c.n, out);
+                cases++;
+                for (unsigned p = 0; p < PP_COUNT; p++) {
+                    unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
+                    uint64_t want_d;
+                    unsigned want_f;
+                    model(&c, a[p], b[p], d[p] & mask_n(c.n), f_in, &want_d, &want_f);
+                    if (!e) {
+                        want_d = d[p] & mask_n(c.n);
+                        want_f = f_in;
+                    }
+                    unsigned got_f = pp_array_bit(r->array->flag, p);
+                    if ((out[p] != want_d || got_f != want_f) && bad++ < 3)
+                        CHECK_MSG(false, "%s n=%u m=%u k=%u cond=%u sgn=%d imm=0x%x PP %u "
+                                  "(E=%u a=0x%x b=0x%x): d 0x%x want 0x%llx, F %u want %u",
+                                  pp_isa_info(c.op)->name, c.n, c.m, c.k, c.cond, c.sgn, c.imm, p,
+                                  e, a[p], b[p], out[p], (unsigned long long)want_d, got_f, want_f);
+                }
+            }
+    CHECK_EQ(bad, 0);
+    CHECK_EQ(cases, 19 * 4 * 3);
+    free(a); free(b); free(d); free(ctl); free(out);
+}
+
+TEST(pp_enable_ops_follow_their_truth_tables)
+{
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    static const unsigned ops[] = {PP_OP_EN_ALL, PP_OP_EN_FLAG, PP_OP_EN_AND, PP_OP_EN_ANDN,
+                                   PP_OP_EN_OR, PP_OP_EN_NOT};
+    unsigned bad = 0;
+    for (size_t i = 0; i < 6; i++) {
+        /* All four (E, F) combinations: E = bit 0 of p, F = bit 1 of p. */
+        for (unsigned w = 0; w < PP_PLANE_WORDS; w++) {
+            r->array->en[w] = 0xAAAAAAAAAAAAAAAAull;
+            r->array->flag[w] = 0xCCCCCCCCCCCCCCCCull;
+        }
+        uint32_t word = (uint32_t)ops[i] << 24;
+        REQUIRE(renderer_execute(r, &word, 1, NULL) == PP5_OK);
+        for (unsigned p = 0; p < 64; p++) {
+            unsigned e = p & 1u;
+            unsigned f = (p >> 1) & 1u, want;
+            switch (ops[i]) {
+            case PP_OP_EN_ALL: want = 1; break;
+            case PP_OP_EN_FLAG: want = f; break;
+            case PP_OP_EN_AND: want = e & f; break;
+            case PP_OP_EN_ANDN: want = e & !f; break;
+            case PP_OP_EN_OR: want = e | f; break;
+            default: want = !e; break;
+            }
+            bad += pp_array_bit(r->array->en, p) != want;
+        }
+    }
+    CHECK_EQ(bad, 0);
+}
