@@ -188,6 +188,12 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
         json_kv_uint(&j, stats_class_name(k), rg->msgs_sent[k]);
     }
     json_end_object(&j);
+    json_key(&j, "busy_s_by_class");
+    json_begin_object(&j);
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        json_kv_double(&j, stats_class_name(k), ticks_to_s(rg->busy_by_class[k]));
+    }
+    json_end_object(&j);
     json_key(&j, "busy_s_by_channel");
     json_begin_array(&j);
     for (unsigned c = 0; c < rg->n_channels; c++) {

@@ -163,6 +163,7 @@ static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
     ch->bytes += wire;
     ch->messages++;
     ch->bytes_by_class[f->msg.cls] += wire;
+    r->busy_by_class[f->msg.cls] += ser;
     p->tx_free_at = end;
     if (r->trace) {
         r->trace(r->trace_ctx, best, &f->msg, start, end, arrival);

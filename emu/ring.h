@@ -86,6 +86,7 @@ typedef struct {
     /* counters */
     uint64_t bytes_sent[RING_CLASS_COUNT], bytes_delivered[RING_CLASS_COUNT];
     uint64_t msgs_sent[RING_CLASS_COUNT], msgs_delivered[RING_CLASS_COUNT];
+    pp5_tick_t busy_by_class[RING_CLASS_COUNT];   /* channel time, summed over channels */
     pp5_tick_t last_arrival;
 } ring_t;
 

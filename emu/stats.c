@@ -117,6 +117,7 @@ pp5_status_t stats_collect(stats_t *s, const machine_t *m)
         ADD((double)m->ring.bytes_sent[k], "bytes", "wire bytes sent in this class", "ring.class.%s.bytes_sent", stats_class_name(k));
         ADD((double)m->ring.bytes_delivered[k], "bytes", "wire bytes delivered in this class", "ring.class.%s.bytes_delivered", stats_class_name(k));
         ADD((double)m->ring.msgs_sent[k], "count", "messages sent in this class", "ring.class.%s.messages", stats_class_name(k));
+        ADD(ticks_to_s(m->ring.busy_by_class[k]), "s", "channel time used by this class (all channels)", "ring.class.%s.busy_s", stats_class_name(k));
     }
     ADD(stats_ring_utilization(m), "fraction", "channel busy time inside frames / (channels x frame time)", "ring.utilization");
     ADD((double)m->fb.blocks_received, "count", "pixel blocks received", "fb.blocks");

@@ -76,12 +76,25 @@ static fw_status_t send_region(gp_t *gp, tp_state_t *s, unsigned renderer, unsig
         return fw_fail(gp, "test pattern stream for region (%u,%u): %s", x0, y0, pp_stream_error(st));
     }
 
-    ring_addr_t dst = ring_addr(RING_NODE_RENDERER, renderer);
-    uint32_t args[RING_MSG_ARGS] = { x0, y0, 0, 0, 0, 0 };
-    if (fw_send(gp, dst, RING_MSG_RENDERER_SET_REGION, args, NULL, 0) != FW_OK) {
+    /* The stream lives in this GP's local memory while it is sent (the
+     * encoder's own buffer is host scratch; copying it here makes the
+     * memory limit apply; the stores were charged above). */
+    size_t bytes = st->n_words * sizeof(uint32_t);
+    uint32_t *local = fw_alloc(gp, bytes);
+    if (!local) {
         return FW_ERROR;
     }
-    if (fw_send(gp, dst, RING_MSG_RENDERER_EXEC, NULL, st->words, st->n_words * sizeof(uint32_t)) != FW_OK) {
+    for (size_t i = 0; i < st->n_words; i++) {
+        local[i] = st->words[i];
+    }
+    ring_addr_t dst = ring_addr(RING_NODE_RENDERER, renderer);
+    uint32_t args[RING_MSG_ARGS] = { x0, y0, 0, 0, 0, 0 };
+    fw_status_t rc = fw_send(gp, dst, RING_MSG_RENDERER_SET_REGION, args, NULL, 0);
+    if (rc == FW_OK) {
+        rc = fw_send(gp, dst, RING_MSG_RENDERER_EXEC, NULL, local, bytes);
+    }
+    fw_free(gp, local);
+    if (rc != FW_OK) {
         return FW_ERROR;
     }
     uint32_t px[RING_MSG_ARGS] = { TP_R, TP_G, TP_B, ring_addr_pack(ring_addr(RING_NODE_FB, 0)), 0, 0 };

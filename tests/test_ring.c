@@ -102,6 +102,8 @@ TEST(ring_two_contending_senders_take_the_sum)
     CHECK_EQ(r.bytes_delivered[RING_CLASS_DATA], 1000);
     CHECK_EQ(r.bytes_sent[RING_CLASS_PIXELS], 0);
     CHECK_EQ(r.ch[0].busy_ticks, 2 * ser);
+    CHECK_EQ(r.busy_by_class[RING_CLASS_COMMAND], ser);
+    CHECK_EQ(r.busy_by_class[RING_CLASS_DATA], ser);
     ring_free(&r);
     sched_free(&s);
 }

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "gp_cost.h"
 #include "params.h"
 #include "registry.h"
 
@@ -70,6 +71,12 @@ static int cmd_machine(int argc, char **argv)
         params_format(&p, row, v, sizeof v);
         printf("%-30s %14s  %-16s %s\n", row->name, v, row->unit, row->description);
         printf("%-30s %14s  %-16s   source: %s\n", "", "", "", row->citation);
+    }
+    int n_cost;
+    const gp_cost_row_t *cost = gp_cost_table(&n_cost);
+    printf("\ni860 cost table (gp_cost.c; [U] values are the i860.* parameters above):\n");
+    for (int i = 0; i < n_cost; i++) {
+        printf("  %-10s %s\n  %-10s   source: %s\n", cost[i].op, cost[i].cycles, "", cost[i].citation);
     }
     double ch = pp5_params_ring_channel_bytes_per_s(&p);
     double agg = pp5_params_ring_aggregate_bytes_per_s(&p);
