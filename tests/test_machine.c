@@ -6,6 +6,7 @@
 #include "harness.h"
 #include "firmware/testpattern_gp.h"
 #include "machine.h"
+#include "pp_encode.h"
 #include "report.h"
 #include "stats.h"
 
@@ -254,4 +255,116 @@ TEST(machine_bad_options_fail_cleanly)
     CHECK(pp5_test_run_cli("test-pattern --config /nonexistent/x.cfg", NULL, NULL) != 0);
     CHECK(pp5_test_run_cli("test-pattern --out /nonexistent/dir/p.png --set fb.width=128 --set fb.height=128 "
                            "--set renderer.count=1 --set gp.count=1", NULL, NULL) != 0);
+}
+
+/* ---- renderer data paths: WRITE_FIELD, EXEC, READ_FIELD, WRITE_BS, READ_BS ---- */
+
+static uint32_t g_words[PP_COUNT];
+static int g_replies, g_field_ok, g_bs_ok;
+
+static fw_status_t io_message(gp_t *gp, const ring_msg_t *msg)
+{
+    ring_addr_t r0 = ring_addr(RING_NODE_RENDERER, 0);
+    uint32_t me = ring_addr_pack(ring_addr(RING_NODE_GP, fw_gp_index(gp)));
+    if (msg->kind == RING_MSG_FRAME_START) {
+        for (uint32_t i = 0; i < PP_COUNT; i++) {
+            g_words[i] = (i * 7u) & 0xffffu;
+        }
+        uint32_t wf[RING_MSG_ARGS] = { 0, 16, 0, 0, 0, 0 };
+        if (fw_send(gp, r0, RING_MSG_RENDERER_WRITE_FIELD, wf, g_words, sizeof g_words) != FW_OK) {
+            return FW_ERROR;
+        }
+        pp_stream_t s;
+        pp_stream_init(&s);
+        pp_emit_en_all(&s);
+        pp_emit_addi(&s, 16, 0, 16, 5);          /* field[16..32) = field[0..16) + 5 */
+        fw_status_t rc = fw_send(gp, r0, RING_MSG_RENDERER_EXEC, NULL, s.words, s.n_words * 4);
+        pp_stream_free(&s);
+        uint32_t rf[RING_MSG_ARGS] = { 16, 16, me, 42, 0, 0 };
+        uint32_t wb[RING_MSG_ARGS] = { 3, 0, 0, 0, 0, 0 };
+        uint32_t rb[RING_MSG_ARGS] = { 3, 0, me, 43, 0, 0 };
+        if (rc == FW_OK) {
+            rc = fw_send(gp, r0, RING_MSG_RENDERER_READ_FIELD, rf, NULL, 0);
+        }
+        if (rc == FW_OK) {
+            rc = fw_send(gp, r0, RING_MSG_RENDERER_WRITE_BS, wb, g_words, sizeof g_words);
+        }
+        if (rc == FW_OK) {
+            rc = fw_send(gp, r0, RING_MSG_RENDERER_READ_BS, rb, NULL, 0);
+        }
+        return rc;
+    }
+    if (msg->kind == RING_MSG_RENDERER_DATA && msg->payload_bytes == sizeof g_words) {
+        const uint32_t *v = msg->payload;
+        int ok = 1;
+        for (uint32_t i = 0; i < PP_COUNT; i++) {
+            ok &= v[i] == (msg->args[0] == 42 ? ((g_words[i] + 5u) & 0xffffu) : g_words[i]);
+        }
+        if (msg->args[0] == 42) {
+            g_field_ok = ok;
+        } else if (msg->args[0] == 43) {
+            g_bs_ok = ok;
+        }
+        g_replies++;
+        return FW_OK;
+    }
+    return fw_fail(gp, "unexpected message kind %u", msg->kind);
+}
+
+static const fw_program_t io_prog = { "renderer-io", 1024, NULL, io_message };
+
+TEST(machine_renderer_field_and_backing_store_round_trip)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_all(&m, &io_prog) == PP5_OK);
+    sched_stop_t why;
+    pp5_status_t st = machine_run_setup(&m, &why);
+    REQUIRE(st == PP5_OK);
+    g_replies = g_field_ok = g_bs_ok = 0;
+    st = machine_run_frame(&m, &why);
+    REQUIRE_MSG(st == PP5_OK, "frame failed: %s", pp5_error_text());
+    CHECK_EQ(g_replies, 2);
+    CHECK(g_field_ok);
+    CHECK(g_bs_ok);
+    /* Port cycles: write 16 + read 16 bit-planes, write + read one 32-bit block. */
+    CHECK_EQ(m.rn[0].port_cycles, (16 + 16 + 32 + 32) * p.rport_cycles_per_bit);
+    /* DATA class: two 64 KiB writes from the GP and two 64 KiB replies. */
+    CHECK_EQ(m.ring.bytes_sent[RING_CLASS_DATA], 4ull * (PP_COUNT * 4 + p.ring_header_bytes));
+    CHECK_EQ(m.ring.bytes_delivered[RING_CLASS_DATA], m.ring.bytes_sent[RING_CLASS_DATA]);
+    machine_free(&m);
+}
+
+static fw_status_t bad_exec_message(gp_t *gp, const ring_msg_t *msg)
+{
+    uint32_t junk[2] = { 0xffffffffu, 0xffffffffu };   /* not a valid instruction */
+    return fw_send(gp, ring_addr(RING_NODE_RENDERER, 0), RING_MSG_RENDERER_EXEC, NULL, junk, sizeof junk);
+}
+
+static const fw_program_t bad_exec_prog = { "bad-exec", 1024, NULL, bad_exec_message };
+
+TEST(machine_illegal_instruction_stream_is_a_firmware_error)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_all(&m, &bad_exec_prog) == PP5_OK);
+    sched_stop_t why;
+    REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
+    pp5_status_t st = machine_run_frame(&m, &why);
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK_EQ(why, SCHED_FIRMWARE_ERROR);
+    CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
+    machine_free(&m);
 }
