@@ -7,7 +7,7 @@
 
 static const pp_op_info_t op_table[] = {
 #define PP_OP(NAME, CODE, FMT, DW, AW, BW, IMM, CLASS, COST, TAG, SEM) \
-    { #NAME, CODE, FMT, DW, AW, BW, IMM, CLASS, TAG, SEM },
+    { #NAME, CODE, FMT, DW, AW, BW, IMM, CLASS, TAG, SEM, #COST },
 #include "pp_isa.def"
 #undef PP_OP
 };
@@ -23,6 +23,16 @@ const pp_op_info_t *pp_isa_info(unsigned opcode)
             return &op_table[i];
     }
     return NULL;
+}
+
+unsigned pp_isa_count(void)
+{
+    return (unsigned)N_OPS;
+}
+
+const pp_op_info_t *pp_isa_at(unsigned i)
+{
+    return i < N_OPS ? &op_table[i] : NULL;
 }
 
 const char *pp_class_name(pp_class_t c)

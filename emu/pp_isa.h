@@ -83,7 +83,12 @@ typedef struct {
     uint8_t cls;               /* pp_class_t */
     const char *tag;
     const char *semantics;
+    const char *cost_text;     /* the cost expression as written in pp_isa.def */
 } pp_op_info_t;
+
+/* Number of legal opcodes and the i-th one in table order (for docs and tests). */
+unsigned pp_isa_count(void);
+const pp_op_info_t *pp_isa_at(unsigned i);
 
 /* NULL for an illegal opcode. */
 const pp_op_info_t *pp_isa_info(unsigned opcode);

@@ -498,3 +498,19 @@ TEST(pp_enable_ops_follow_their_truth_tables)
     }
     CHECK_EQ(bad, 0);
 }
+
+TEST(pp_isa_doc_is_in_sync_with_the_table)
+{
+    /* emu/PP_ISA.md embeds the output of `pp5 pp-isa`; regenerate it when pp_isa.def changes. */
+    char path[512];
+    snprintf(path, sizeof path, "%s/isa.md", pp5_test_outdir());
+    REQUIRE(pp5_test_run_cli("pp-isa", path, NULL) == 0);
+    char *table = pp5_test_read_file(path);
+    char *doc = pp5_test_read_file("emu/PP_ISA.md");
+    REQUIRE(table && doc);
+    CHECK(strlen(table) > 1000);
+    CHECK_MSG(strstr(doc, table) != NULL, "emu/PP_ISA.md does not contain the current "
+              "`pp5 pp-isa` table: regenerate it");
+    free(table);
+    free(doc);
+}
