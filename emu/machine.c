@@ -78,7 +78,7 @@ static const char *kind_name(uint32_t kind)
 {
     static const char *names[] = { "?", "exec", "set_region", "write_field", "write_bs", "read_field",
                                     "read_bs", "send_pixels", "data", "fb_pixels", "fb_swap",
-                                    "host_load", "gp_user" };
+                                    "host_load", "gp_user", "frame_start" };
     return kind < sizeof names / sizeof names[0] ? names[kind] : "?";
 }
 
@@ -88,6 +88,10 @@ static void trace_ring(void *ctx, unsigned channel, const ring_msg_t *msg, pp5_t
     machine_t *m = ctx;
     timeline_span(m->tl, m->tid_ch0 + channel, kind_name(msg->kind), start, end,
                   ring_wire_bytes(&m->ring, msg));
+    if (msg->src.type == RING_NODE_HOST) {
+        /* The host's own track shows what it injects. */
+        timeline_span(m->tl, m->tid_host, kind_name(msg->kind), start, end, ring_wire_bytes(&m->ring, msg));
+    }
 }
 
 static void trace_gp(void *ctx, const gp_t *gp, const char *what, pp5_tick_t start, pp5_tick_t end)

@@ -1,6 +1,7 @@
 /* report.h: the JSON run report (--report FILE.json): frame time, unit busy times, ring traffic, parameters.
  *
- * Keys other tools read (stable): frame_time_s, frames[], gp[].busy_s,
+ * Keys other tools read (stable): frame_time_s (mean over frames),
+ * frames_total_s, frames[] (each with its own frame_time_s), gp[].busy_s,
  * renderers[].busy_s, renderers[].cycles, ring.bytes (total, by_class,
  * by_channel), ring.utilization (aggregate, by_channel), machine (every
  * parameter), pp5_version, command_line, inputs[] (name + FNV-1a 64 hash).

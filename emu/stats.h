@@ -27,7 +27,8 @@ void stats_free(stats_t *s);
 const stats_entry_t *stats_find(const stats_t *s, const char *name);
 
 /* Shared derived figures. */
-double stats_frame_time_s(const machine_t *m);        /* sum of all frames */
+double stats_frame_time_s(const machine_t *m);        /* mean frame time over the frames run */
+double stats_frames_total_s(const machine_t *m);      /* sum of all frame times */
 /* Ring utilisation over the frames (load phase excluded): busy time of all
  * channels inside frames / (channels x total frame time); per channel: that
  * channel's busy time inside frames / total frame time. */

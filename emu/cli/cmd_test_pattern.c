@@ -23,6 +23,7 @@ static void tp_usage(FILE *out)
             "  --out FILE.png       write the frame buffer\n"
             "  --report FILE.json   write the run report (frame time, busy times, ring traffic, parameters)\n"
             "  --timeline FILE.json write a Chrome trace-event timeline (open in ui.perfetto.dev)\n"
+            "  --frames N           render N frames (default 1); the report lists each\n"
             PP5_PARAMS_CLI_HELP
             "  --help               this text\n");
 }
@@ -33,12 +34,14 @@ static int cmd_test_pattern(int argc, char **argv)
         {"out", required_argument, NULL, 'o'},
         {"report", required_argument, NULL, 'r'},
         {"timeline", required_argument, NULL, 't'},
+        {"frames", required_argument, NULL, 'f'},
         {"preset", required_argument, NULL, 'p'},
         {"config", required_argument, NULL, 'c'},
         {"set", required_argument, NULL, 's'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     const char *out = NULL, *report = NULL, *timeline = NULL;
+    long frames = 1;
     pp5_params_cli_t cli;
     memset(&cli, 0, sizeof cli);
     optind = 1;
@@ -48,6 +51,11 @@ static int cmd_test_pattern(int argc, char **argv)
         case 'o': out = optarg; break;
         case 'r': report = optarg; break;
         case 't': timeline = optarg; break;
+        case 'f':
+            if (cliopt_long("--frames", optarg, 1, MACHINE_MAX_FRAMES, &frames) != PP5_OK) {
+                return cliopt_report("test-pattern", PP5_E_CONFIG);
+            }
+            break;
         case 'p': cli.preset = optarg; break;
         case 'c': cli.config = optarg; break;
         case 's':
@@ -92,7 +100,7 @@ static int cmd_test_pattern(int argc, char **argv)
     if (st == PP5_OK) {
         st = machine_run_setup(&m, &stop);
     }
-    if (st == PP5_OK) {
+    for (long f = 0; st == PP5_OK && f < frames; f++) {
         st = machine_run_frame(&m, &stop);
     }
     /* Reports and timelines are written even when the run failed (L6). */
@@ -116,7 +124,8 @@ static int cmd_test_pattern(int argc, char **argv)
                p.fb_width, p.fb_height, (p.fb_width / 128) * (p.fb_height / 128),
                pp5_params_ring_aggregate_bytes_per_s(&p) / 1e6);
         printf("  program load      %.6f ms (host -> GPs, not part of the frame)\n", ticks_to_s(m.setup_ps) * 1e3);
-        printf("  frame time        %.6f ms (stop: %s)\n", frame_s * 1e3, sched_stop_name(stop));
+        printf("  frame time        %.6f ms (stop: %s)%s\n", frame_s * 1e3,
+               sched_stop_name(stop), m.n_frames > 1 ? " (mean over frames)" : "");
         printf("  ring bytes        %llu (pixels %llu, commands %llu, host %llu)\n",
                (unsigned long long)ring_total_bytes_sent(&m.ring),
                (unsigned long long)m.ring.bytes_sent[RING_CLASS_PIXELS],
