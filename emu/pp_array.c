@@ -6,14 +6,21 @@
 
 /* Four words per vector (GCC/Clang vector extension: AVX2 when the target has
  * it, otherwise pairs of SSE2 or scalar operations; the result is identical). */
-typedef uint64_t v4_t __attribute__((vector_size(32), aligned(8), may_alias));
+typedef uint64_t v4_t __attribute__((vector_size(32)));
+#if defined(__GNUC__) && !defined(__clang__)
+/* GCC 12 reports the fully unrolled, fully initialised carry arrays of the
+ * AVX2 clones as "may be used uninitialized" (a false positive). */
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+/* The same vector as a memory access: any alignment of 8, may alias uint64_t. */
+typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias));
 #define VW 4u                     /* words per vector */
 #define BLK 4u                    /* vectors per block: 16 words = 1024 PPs */
 #define BW (VW * BLK)             /* words per block */
 
 /* Macros rather than functions: no vector crosses a call (no -Wpsabi ABI notes). */
-#define ld(p) (*(const v4_t *)(const void *)(p))
-#define st(p, v) (*(v4_t *)(void *)(p) = (v))
+#define ld(p) ((v4_t)*(const v4_mem_t *)(const void *)(p))
+#define st(p, v) (*(v4_mem_t *)(void *)(p) = (v))
 #define splat(x) ((v4_t){(x), (x), (x), (x)})
 /* Masked write: where e, new; elsewhere old. */
 #define merge(e, new_v, old) (((new_v) & (e)) | ((old) & ~(e)))
@@ -82,6 +89,12 @@ static void exec_flag(pp_array_t *A, const pp_insn_t *in)
  * every combination is compiled branch-free; the dispatchers are cloned for
  * AVX2 where the compiler and CPU support it (same results, chosen at load). */
 #define INLINE static inline __attribute__((always_inline))
+/* Fully unroll the per-vector loops so carries and enables stay in registers. */
+#if defined(__GNUC__) && !defined(__clang__)
+#define UNROLL _Pragma("GCC unroll 8")
+#else
+#define UNROLL
+#endif
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
 #define PP_CLONES __attribute__((target_clones("avx2", "default")))
 #else
@@ -120,6 +133,7 @@ INLINE void logic_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const un
 {
     const unsigned n = in->n;
     v4_t e[BLK], f[BLK];
+    UNROLL
     for (unsigned v = 0; v < BLK; v++) {
         e[v] = ld(A->en + w + v * VW);
         f[v] = ld(A->flag + w + v * VW);
@@ -132,6 +146,7 @@ INLINE void logic_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const un
         const uint64_t *pb = (op == PP_OP_AND || op == PP_OP_OR || op == PP_OP_XOR ||
                               op == PP_OP_SEL) ? A->mem[in->b + i] + w : A->zero;
         const v4_t konst = splat(op == PP_OP_SETI ? imm_bit(in, i) : 0);
+        UNROLL
         for (unsigned v = 0; v < BLK; v++) {
             v4_t av = ld(pa + v * VW), bv = ld(pb + v * VW), r;
             switch (op) {
@@ -178,6 +193,7 @@ INLINE void add_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsi
 {
     const bool sub = op == PP_OP_SUB, addi = op == PP_OP_ADDI;
     v4_t e[BLK], c[BLK];
+    UNROLL
     for (unsigned v = 0; v < BLK; v++) {
         e[v] = ld(A->en + w + v * VW);
         c[v] = splat(sub ? ~(uint64_t)0 : 0);     /* a - b = a + ~b + 1 */
@@ -187,6 +203,7 @@ INLINE void add_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsi
         const uint64_t *pb = addi ? A->zero : A->mem[in->b + i] + w;
         uint64_t *pd = A->mem[in->d + i] + w;
         const v4_t kb = splat(addi ? imm_bit(in, i) : 0);
+        UNROLL
         for (unsigned v = 0; v < BLK; v++) {
             v4_t av = ld(pa + v * VW);
             v4_t bv = addi ? kb : ld(pb + v * VW);
@@ -198,6 +215,7 @@ INLINE void add_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsi
             STORE(pd + v * VW, e[v], s, full);
         }
     }
+    UNROLL
     for (unsigned v = 0; v < BLK; v++) {
         v4_t out = sub ? ~c[v] : c[v];
         st(A->flag + w + v * VW, merge(e[v], out, ld(A->flag + w + v * VW)));
@@ -229,6 +247,7 @@ INLINE void cmp_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const bool
     const unsigned n = in->n, cond = in->x;
     const bool is_signed = cond == PP_COND_LTS || cond == PP_COND_GES;
     v4_t e[BLK], c[BLK], diff[BLK];
+    UNROLL
     for (unsigned v = 0; v < BLK; v++) {
         e[v] = ld(A->en + w + v * VW);
         c[v] = splat(~(uint64_t)0);
@@ -240,6 +259,7 @@ INLINE void cmp_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const bool
         const v4_t kb = splat(imm ? imm_bit(in, i) : 0);
         /* Signed order = unsigned order with both sign bits inverted. */
         const v4_t flip = splat(is_signed && i == n - 1 ? ~(uint64_t)0 : 0);
+        UNROLL
         for (unsigned v = 0; v < BLK; v++) {
             v4_t av = ld(pa + v * VW) ^ flip;
             v4_t bv = (imm ? kb : ld(pb + v * VW)) ^ flip;
@@ -248,6 +268,7 @@ INLINE void cmp_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const bool
             c[v] = (av & nb) | (c[v] & (av ^ nb));
         }
     }
+    UNROLL
     for (unsigned v = 0; v < BLK; v++) {
         v4_t r;
         switch (cond) {
@@ -287,11 +308,13 @@ INLINE void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v
 {
     const bool sgn = in->mod & 1u;
     v4_t c[BLK];
+    UNROLL
     for (unsigned v = 0; v < BLK; v++)
         c[v] = splat(0);
     for (unsigned i = j; i < in->n; i++) {
         const uint64_t *pa = ext_plane(A, in->a, in->m, sgn, i - j);
         uint64_t *pd = A->mem[in->d + i] + w;
+        UNROLL
         for (unsigned v = 0; v < BLK; v++) {
             v4_t av = ld(pa + w + v * VW);
             v4_t dv = ld(pd + v * VW);
@@ -309,10 +332,12 @@ PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
     const bool sgn = in->mod & 1u;
     for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
         v4_t e[BLK], mask[BLK];
+        UNROLL
         for (unsigned v = 0; v < BLK; v++)
             e[v] = ld(A->en + w + v * VW);
         for (unsigned i = 0; i < n; i++) {          /* clear d */
             uint64_t *pd = A->mem[in->d + i] + w;
+            UNROLL
             for (unsigned v = 0; v < BLK; v++)
                 st(pd + v * VW, merge(e[v], splat(0), ld(pd + v * VW)));
         }
@@ -321,6 +346,7 @@ PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
             if (in->op == PP_OP_MULI) {
                 uint32_t imm = in->imm[0];
                 unsigned bit = j < 32 ? (imm >> j) & 1u : imm >> 31;
+                UNROLL
                 for (unsigned v = 0; v < BLK; v++)
                     mask[v] = bit ? e[v] : splat(0);
                 any = bit;
@@ -328,6 +354,7 @@ PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
                 if (!sgn && j >= in->m)
                     break;                  /* unsigned: no more multiplier bits */
                 const uint64_t *pb = ext_plane(A, in->b, in->m, sgn, j);
+                UNROLL
                 for (unsigned v = 0; v < BLK; v++)
                     mask[v] = e[v] & ld(pb + w + v * VW);
                 any = true;
