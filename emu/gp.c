@@ -100,7 +100,7 @@ static pp5_status_t gp_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
         gp_inbox_item_t item = gp->inbox[gp->inbox_head];
         gp->inbox_head = (gp->inbox_head + 1) % gp->inbox_cap;
         gp->inbox_count--;
-        what = "on_message";
+        what = ring_msg_kind_name(item.msg.kind);
         if (gp->prog && gp->prog->on_message) {
             rc = gp->prog->on_message(gp, &item.msg);
         }

@@ -74,23 +74,15 @@ static pp5_status_t machine_unit_send(void *ctx, const ring_msg_t *msg, pp5_tick
 
 /* ---- timeline observers ---- */
 
-static const char *kind_name(uint32_t kind)
-{
-    static const char *names[] = { "?", "exec", "set_region", "write_field", "write_bs", "read_field",
-                                    "read_bs", "send_pixels", "data", "fb_pixels", "fb_swap",
-                                    "host_load", "gp_user", "frame_start" };
-    return kind < sizeof names / sizeof names[0] ? names[kind] : "?";
-}
-
 static void trace_ring(void *ctx, unsigned channel, const ring_msg_t *msg, pp5_tick_t start,
                        pp5_tick_t end, pp5_tick_t arrival)
 {
     machine_t *m = ctx;
-    timeline_span(m->tl, m->tid_ch0 + channel, kind_name(msg->kind), start, end,
+    timeline_span(m->tl, m->tid_ch0 + channel, ring_msg_kind_name(msg->kind), start, end,
                   ring_wire_bytes(&m->ring, msg));
     if (msg->src.type == RING_NODE_HOST) {
         /* The host's own track shows what it injects. */
-        timeline_span(m->tl, m->tid_host, kind_name(msg->kind), start, end, ring_wire_bytes(&m->ring, msg));
+        timeline_span(m->tl, m->tid_host, ring_msg_kind_name(msg->kind), start, end, ring_wire_bytes(&m->ring, msg));
     }
 }
 
@@ -109,7 +101,7 @@ static void trace_rn(void *ctx, unsigned index, const char *what, pp5_tick_t sta
 static void trace_fb(void *ctx, const ring_msg_t *msg, pp5_tick_t now)
 {
     machine_t *m = ctx;
-    timeline_span(m->tl, m->tid_fb, kind_name(msg->kind), now, now, msg->payload_bytes);
+    timeline_span(m->tl, m->tid_fb, ring_msg_kind_name(msg->kind), now, now, msg->payload_bytes);
 }
 
 pp5_status_t machine_enable_timeline(machine_t *m)

@@ -93,6 +93,16 @@ typedef enum {
     RING_MSG_KIND_COUNT
 } ring_msg_kind_t;
 
+/* Short lower-case name of a kind ("exec", "fb_pixels", ...; "?" if unknown). */
+static inline const char *ring_msg_kind_name(uint32_t kind)
+{
+    static const char *const names[RING_MSG_KIND_COUNT] = {
+        "?", "exec", "set_region", "write_field", "write_bs", "read_field", "read_bs",
+        "send_pixels", "data", "fb_pixels", "fb_swap", "host_load", "gp_user", "frame_start"
+    };
+    return kind < RING_MSG_KIND_COUNT ? names[kind] : "?";
+}
+
 /* A message as seen by firmware and by the emulator's units.  While a
  * receiver's callback runs, `payload` points at ring-owned memory that stays
  * valid until the callback returns. */
