@@ -257,3 +257,52 @@ TEST(gp_ring_ping_pong_round_trip_matches_the_parameters)
     CHECK_EQ(g_pong_time, want);
     machine_free(&m);
 }
+
+static fw_status_t bad_pixels_start(gp_t *gp)
+{
+    static uint8_t rgb[16 * 16 * 3];
+    uint32_t args[RING_MSG_ARGS] = { 120, 0, 16, 16, 0, 0 };   /* x 120..135 on a 128-wide screen */
+    return fw_send(gp, ring_addr(RING_NODE_FB, 0), RING_MSG_FB_PIXELS, args, rgb, sizeof rgb);
+}
+
+static const fw_program_t bad_pixels_prog = { "bad-pixels", 1024, bad_pixels_start, NULL };
+
+static fw_status_t good_pixels_start(gp_t *gp)
+{
+    static uint8_t rgb[16 * 8 * 3];
+    for (size_t i = 0; i < sizeof rgb; i++) {
+        rgb[i] = (uint8_t)(i * 3);
+    }
+    uint32_t args[RING_MSG_ARGS] = { 100, 50, 16, 8, 0, 0 };
+    return fw_send(gp, ring_addr(RING_NODE_FB, 0), RING_MSG_FB_PIXELS, args, rgb, sizeof rgb);
+}
+
+static const fw_program_t good_pixels_prog = { "good-pixels", 1024, good_pixels_start, NULL };
+
+TEST(gp_pixels_to_the_frame_buffer_are_checked_and_placed)
+{
+    pp5_params_t p;
+    small_params(&p);
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &bad_pixels_prog, NULL, 0) == PP5_OK);
+    sched_stop_t why;
+    pp5_status_t st = machine_run_setup(&m, &why);
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "frame buffer") != NULL && strstr(pp5_error_text(), "outside") != NULL);
+    machine_free(&m);
+
+    p.fb_double_buffered = 0;    /* blocks are visible at once */
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &good_pixels_prog, NULL, 0) == PP5_OK);
+    st = machine_run_setup(&m, &why);
+    REQUIRE(st == PP5_OK);
+    const image8_t *img = fb_front(&m.fb);
+    /* Pixel (row 2, col 5) of the block lands at (105, 52); its red byte is
+     * block byte (2*16 + 5)*3. */
+    CHECK_EQ(img->pixels[(52 * 128 + 105) * 3], (uint8_t)((2 * 16 + 5) * 3 * 3));
+    CHECK_EQ(img->pixels[(49 * 128 + 105) * 3], 0);
+    CHECK_EQ(m.fb.pixels_received, 16 * 8);
+    CHECK_EQ(m.ring.bytes_sent[RING_CLASS_PIXELS], 16 * 8 * 3 + p.ring_header_bytes);
+    machine_free(&m);
+}

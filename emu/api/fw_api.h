@@ -12,6 +12,8 @@
  * and fw_charge() converts them into i860 cycles with the cited cost table
  * (emu/gp_cost.h).  The GP's local clock advances by those cycles; a message
  * sent with fw_send() leaves at the GP's local time at the moment of the call.
+ * A frame begins for the program when the host's FRAME_START message
+ * (args[0] = frame number) reaches on_message.
  *
  * Memory.  fw_alloc() takes bytes from the GP's local memory, whose capacity
  * is the parameter gp.local_mem_bytes ([U], facts §2).  Past the capacity it
