@@ -52,38 +52,6 @@ void pp_array_clear(pp_array_t *a)
     memset(a->en, 0xff, sizeof a->en);
 }
 
-/* ---- Enable and flag ---- */
-
-static void exec_enable(pp_array_t *A, unsigned op)
-{
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w++) {
-        uint64_t e = A->en[w], f = A->flag[w];
-        switch (op) {
-        case PP_OP_EN_ALL: e = ~(uint64_t)0; break;
-        case PP_OP_EN_FLAG: e = f; break;
-        case PP_OP_EN_AND: e &= f; break;
-        case PP_OP_EN_ANDN: e &= ~f; break;
-        case PP_OP_EN_OR: e |= f; break;
-        default: e = ~e; break;     /* EN_NOT */
-        }
-        A->en[w] = e;
-    }
-}
-
-static void exec_flag(pp_array_t *A, const pp_insn_t *in)
-{
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w++) {
-        uint64_t e = A->en[w], f = A->flag[w];
-        switch (in->op) {
-        case PP_OP_F_SET: f = (f & ~e) | (in->x ? e : 0); break;
-        case PP_OP_F_NOT: f ^= e; break;
-        case PP_OP_F_LD: f = (A->mem[in->a][w] & e) | (f & ~e); break;
-        default: A->mem[in->d][w] = (f & e) | (A->mem[in->d][w] & ~e); break;  /* F_ST */
-        }
-        A->flag[w] = f;
-    }
-}
-
 /* Kernels below are written once as always-inline functions whose op/mode and
  * "block fully enabled" arguments are compile-time constants at each call, so
  * every combination is compiled branch-free; the dispatchers are cloned for
@@ -291,6 +259,59 @@ PP_CLONES static void exec_cmp(pp_array_t *A, const pp_insn_t *in)
     }
 }
 
+/* ---- Enable and flag: one word operation per word, one loop per opcode ---- */
+
+#define EACH_WORD for (unsigned w = 0; w < PP_PLANE_WORDS; w += VW)
+
+PP_CLONES static void exec_enable(pp_array_t *A, unsigned op)
+{
+    uint64_t *E = A->en;
+    const uint64_t *F = A->flag;
+    switch (op) {
+    case PP_OP_EN_ALL: EACH_WORD st(E + w, splat(~(uint64_t)0)); break;
+    case PP_OP_EN_FLAG: EACH_WORD st(E + w, ld(F + w)); break;
+    case PP_OP_EN_AND: EACH_WORD st(E + w, ld(E + w) & ld(F + w)); break;
+    case PP_OP_EN_ANDN: EACH_WORD st(E + w, ld(E + w) & ~ld(F + w)); break;
+    case PP_OP_EN_OR: EACH_WORD st(E + w, ld(E + w) | ld(F + w)); break;
+    default: EACH_WORD st(E + w, ~ld(E + w)); break;     /* EN_NOT */
+    }
+}
+
+/* dst = src where E, unchanged elsewhere (dst and src are whole planes). */
+INLINE void masked_copy(uint64_t *dst, const uint64_t *src, const uint64_t *E)
+{
+    EACH_WORD st(dst + w, merge(ld(E + w), ld(src + w), ld(dst + w)));
+}
+
+PP_CLONES static void exec_flag(pp_array_t *A, const pp_insn_t *in)
+{
+    const uint64_t *E = A->en;
+    uint64_t *F = A->flag;
+    switch (in->op) {
+    case PP_OP_F_SET: {
+        const v4_t x = splat(in->x ? ~(uint64_t)0 : 0);
+        EACH_WORD st(F + w, merge(ld(E + w), x, ld(F + w)));
+        break;
+    }
+    case PP_OP_F_NOT: EACH_WORD st(F + w, ld(F + w) ^ ld(E + w)); break;
+    case PP_OP_F_LD: masked_copy(F, A->mem[in->a], E); break;
+    default: masked_copy(A->mem[in->d], F, E); break;    /* F_ST */
+    }
+}
+
+/* ---- backing store: 32 masked plane copies ---- */
+
+PP_CLONES static void exec_bs(pp_array_t *A, backing_t *bs, const pp_insn_t *in)
+{
+    for (unsigned k = 0; k < PP_BS_BLOCK_BITS; k++) {
+        uint64_t *bp = backing_plane(bs, in->x, k);
+        if (in->op == PP_OP_BSLOAD)
+            masked_copy(A->mem[in->d + k], bp, A->en);
+        else
+            masked_copy(bp, A->mem[in->a + k], A->en);
+    }
+}
+
 /* ---- shift-add multiply (d disjoint from the sources: checked by the decoder) ---- */
 
 /* Plane of bit i of ext(src(m)) (the zero plane past an unsigned field). */
@@ -392,25 +413,6 @@ static void exec_qee(pp_array_t *A, const pp_insn_t *in, int x0, int y0)
                       (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
     qee_ctx_t ctx = {A, in->d, in->n, in->x};
     qee_row_planes(&c, x0, y0, in->x + in->n, A->qee_scratch, qee_store_row, &ctx);
-}
-
-/* ---- backing store: 32 plane copies under E ---- */
-
-static void exec_bs(pp_array_t *A, backing_t *bs, const pp_insn_t *in)
-{
-    for (unsigned k = 0; k < PP_BS_BLOCK_BITS; k++) {
-        uint64_t *bp = backing_plane(bs, in->x, k);
-        uint64_t *dst, *src;
-        if (in->op == PP_OP_BSLOAD) {
-            dst = A->mem[in->d + k];
-            src = bp;
-        } else {
-            dst = bp;
-            src = A->mem[in->a + k];
-        }
-        for (unsigned w = 0; w < PP_PLANE_WORDS; w++)
-            dst[w] = (src[w] & A->en[w]) | (dst[w] & ~A->en[w]);
-    }
 }
 
 void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
