@@ -3,6 +3,7 @@
 #include "volume.h"
 #include "volume_io.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -159,28 +160,64 @@ static bool file_exists(const char *path)
     return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
+void volume_set_info(volume_file_info_t *info, const char *format, voxel_type_t type,
+                     bool big_endian)
+{
+    if (!info)
+        return;
+    snprintf(info->format, sizeof info->format, "%s", format);
+    info->stored_type = type;
+    info->big_endian = big_endian;
+}
+
+static bool starts_gzip(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    unsigned char m[2];
+    bool gz = fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
+    fclose(f);
+    return gz;
+}
+
+static pp5_status_t load_raw_info(const char *path, const volume_raw_spec_t *spec, volume_t *out,
+                                  volume_file_info_t *info)
+{
+    pp5_status_t st = volume_load_raw(path, spec, out);
+    if (st == PP5_OK)
+        volume_set_info(info, starts_gzip(path) ? "raw.gz" : "raw", spec->type, spec->big_endian);
+    return st;
+}
+
 pp5_status_t volume_load(const char *path, const volume_raw_spec_t *raw, volume_t *out)
+{
+    return volume_load_info(path, raw, out, NULL);
+}
+
+pp5_status_t volume_load_info(const char *path, const volume_raw_spec_t *raw, volume_t *out,
+                              volume_file_info_t *info)
 {
     if (!path || !*path)
         return pp5_fail(PP5_E_CONFIG, "volume_load: no file name given");
     /* Self-describing formats first: their headers win over any raw spec. */
     if (ends_with(path, ".nrrd") || ends_with(path, ".nhdr"))
-        return volume_load_nrrd(path, out);
+        return volume_load_nrrd(path, out, info);
     if (ends_with(path, ".nii") || ends_with(path, ".nii.gz"))
-        return volume_load_nifti(path, out);
+        return volume_load_nifti(path, out, info);
     if (ends_with(path, ".den") || ends_with(path, ".den.gz"))
-        return volume_load_den(path, out);
+        return volume_load_den(path, out, info);
     /* Stanford slice series: "dir/CThead.1" or the stem "dir/CThead" (a raw
      * spec, if given, describes one slice). */
     if (volume_is_slice_series(path))
-        return volume_load_slices(path, raw, out);
+        return volume_load_slices(path, raw, out, info);
     if (raw && raw->nx > 0)
-        return volume_load_raw(path, raw, out);
+        return load_raw_info(path, raw, out, info);
     /* Raw files whose name states the layout, as in shared/data:
      * cthead_256x256x113_u16be.raw.gz. */
     volume_raw_spec_t spec;
     if (volume_raw_spec_from_name(path, &spec) == PP5_OK)
-        return volume_load_raw(path, &spec, out);
+        return load_raw_info(path, &spec, out, info);
     if (!file_exists(path))
         return pp5_fail(PP5_E_IO, "%s: no such file (and no slice series %s.1, %s.2, ...)", path,
                         path, path);
@@ -274,4 +311,56 @@ pp5_status_t volume_raw_spec_from_name(const char *path, volume_raw_spec_t *spec
         return PP5_OK;
     }
     return pp5_fail(PP5_E_FORMAT, "%s: name does not state _NXxNYxNZ_TYPE", path);
+}
+
+pp5_status_t volume_parse_size3(const char *opt, const char *text, int *nx, int *ny, int *nz)
+{
+    long v[3];
+    const char *p = text ? text : "";
+    for (int a = 0; a < 3; a++) {
+        char *end;
+        if (*p < '0' || *p > '9')
+            goto bad;
+        errno = 0;
+        v[a] = strtol(p, &end, 10);
+        if (errno == ERANGE || end == p)
+            goto bad;
+        if (a < 2 && *end != 'x' && *end != 'X')
+            goto bad;
+        if (a == 2 && *end != '\0')
+            goto bad;
+        p = end + (a < 2 ? 1 : 0);
+        if (v[a] < 1 || v[a] > VOLUME_MAX_SIDE)
+            return pp5_fail(PP5_E_CONFIG, "%s: side %ld is outside 1..%d", opt, v[a],
+                            VOLUME_MAX_SIDE);
+    }
+    if ((unsigned long long)v[0] * (unsigned long long)v[1] * (unsigned long long)v[2] >
+        VOLUME_MAX_VOXELS)
+        return pp5_fail(PP5_E_CONFIG, "%s: %s has more than %llu voxels", opt, text,
+                        (unsigned long long)VOLUME_MAX_VOXELS);
+    *nx = (int)v[0];
+    *ny = (int)v[1];
+    *nz = (int)v[2];
+    return PP5_OK;
+bad:
+    return pp5_fail(PP5_E_CONFIG, "%s: expected NXxNYxNZ (e.g. 256x256x113), got '%s'", opt,
+                    text ? text : "");
+}
+
+pp5_status_t volume_parse_spacing3(const char *opt, const char *text, double spacing[3])
+{
+    double v[3];
+    const char *p = text ? text : "";
+    for (int a = 0; a < 3; a++) {
+        char *end;
+        errno = 0;
+        v[a] = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v[a]) || v[a] <= 0 ||
+            (a < 2 && *end != ',') || (a == 2 && *end != '\0'))
+            return pp5_fail(PP5_E_CONFIG, "%s: expected three positive numbers SX,SY,SZ, got "
+                            "'%s'", opt, text ? text : "");
+        p = end + 1;
+    }
+    memcpy(spacing, v, sizeof v);
+    return PP5_OK;
 }

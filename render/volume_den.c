@@ -103,7 +103,7 @@ static pp5_status_t parse_header(const char *path, const uint8_t *b, den_header_
     return PP5_OK;
 }
 
-pp5_status_t volume_load_den(const char *path, volume_t *out)
+pp5_status_t volume_load_den(const char *path, volume_t *out, volume_file_info_t *info)
 {
     FILE *probe = fopen(path, "rb");
     if (!probe)
@@ -138,6 +138,7 @@ pp5_status_t volume_load_den(const char *path, volume_t *out)
     snprintf(tmp.source, sizeof tmp.source,
              "%.400s (.den map %dx%dx%d of original %dx%dx%d)", path, h.map_len[0],
              h.map_len[1], h.map_len[2], h.orig_len[0], h.orig_len[1], h.orig_len[2]);
+    volume_set_info(info, "den", VOXEL_U8, false);
     *out = tmp;
     return PP5_OK;
 }

@@ -114,7 +114,7 @@ static pp5_status_t check_attached_raw_length(const char *path, const Nrrd *n,
     return PP5_OK;
 }
 
-pp5_status_t volume_load_nrrd(const char *path, volume_t *out)
+pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_t *info)
 {
     int dims[3];
     unsigned first = 0;
@@ -177,6 +177,10 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out)
         }
         snprintf(tmp.source, sizeof tmp.source, "%.480s", path);
         volume_update_stats(&tmp);
+        voxel_type_t vt;
+        nrrd_to_voxel_type(n->type, &vt);
+        const uint16_t probe = 1;
+        volume_set_info(info, "nrrd", vt, *(const uint8_t *)&probe == 0);
         *out = tmp;
     }
     nrrdNuke(n);
@@ -203,9 +207,10 @@ pp5_status_t volume_save_nrrd(const volume_t *v, const char *path)
 
 #else
 
-pp5_status_t volume_load_nrrd(const char *path, volume_t *out)
+pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_t *info)
 {
     (void)out;
+    (void)info;
     return pp5_fail(PP5_E_UNSUPPORTED, "%s: NRRD support needs Teem (libteem-dev); rebuild "
                     "after installing it", path);
 }

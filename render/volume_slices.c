@@ -135,7 +135,8 @@ static pp5_status_t scan_series(const char *stem, long *lo, long *hi, long *coun
     return PP5_OK;
 }
 
-pp5_status_t volume_load_slices(const char *path, const volume_raw_spec_t *raw, volume_t *out)
+pp5_status_t volume_load_slices(const char *path, const volume_raw_spec_t *raw, volume_t *out,
+                                volume_file_info_t *info)
 {
     char stem[1024];
     long index;
@@ -225,6 +226,7 @@ pp5_status_t volume_load_slices(const char *path, const volume_raw_spec_t *raw, 
     memcpy(tmp.spacing, spacing, sizeof spacing);
     snprintf(tmp.source, sizeof tmp.source, "%.480s.%ld..%ld", stem, lo, hi);
     volume_update_stats(&tmp);
+    volume_set_info(info, "slices", type, big_endian);
     *out = tmp;
     return PP5_OK;
 }
