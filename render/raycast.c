@@ -73,7 +73,6 @@ void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int wid
     c->eye_distance = (v->eye_distance > 1.0f ? v->eye_distance : 1.0f) * c->radius;
     for (int a = 0; a < 3; a++)
         c->eye[a] = c->centre[a] - c->eye_distance * c->forward[a];
-    c->level3d_offset = log2f(m->spacing[0] * m->spacing[1] * m->spacing[2]) / 3.0f;
 }
 
 void camera_ray(const camera_t *c, float px, float py, float origin[3], float dir[3])
@@ -111,6 +110,7 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     r->camera = c;
     r->shade = s;
     r->sample_step = v->sample_step > 0.0f ? v->sample_step : 1.0f;
+    r->level3d_offset = log2f(r->sample_step);
     r->early_termination = v->early_termination;
     if (s->lighting == SHADE_MOVING_OBJECT) {
         /* Light given in eye space: carry it into object space for this view. */
@@ -120,6 +120,29 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     } else {
         memcpy(r->light_obj, s->light_dir, sizeof r->light_obj);
     }
+    for (int l = 0; l < RAYCAST_LUT_LEVELS; l++) {
+        double spacing = (double)r->sample_step * (double)(1 << l);
+        for (int i = 0; i <= RAYCAST_LUT_SIZE; i++)
+            r->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / RAYCAST_LUT_SIZE, spacing));
+    }
+}
+
+/* Opacity of a sample standing for `spacing` object units when a has been
+ * classified per unit: 1 - (1 - a)^spacing. */
+static inline float correct_alpha(const raycast_ctx_t *r, int level2d, bool perspective,
+                                  float spacing, float a)
+{
+    if (a >= 1.0f)
+        return 1.0f;
+    if (perspective || level2d >= RAYCAST_LUT_LEVELS)
+        return 1.0f - powf(1.0f - a, spacing);
+    float x = a * (float)RAYCAST_LUT_SIZE;
+    int i = (int)x;
+    if (i >= RAYCAST_LUT_SIZE)
+        i = RAYCAST_LUT_SIZE - 1;
+    float f = x - (float)i;
+    const float *t = r->alpha_lut[level2d];
+    return t[i] + f * (t[i + 1] - t[i]);
 }
 
 /* Parametric interval [t0, t1] of the ray inside the box [0, hi]. */
@@ -215,7 +238,7 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
         t = 1e-3f;
     while (t <= t1) {
         float spacing = perspective ? t * (growth - 1.0f) : base;
-        float level3d = log2f(spacing) - cam->level3d_offset;
+        float level3d = log2f(spacing) - r->level3d_offset;
         level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
         float p[3] = {ov[0] + t * dv[0], ov[1] + t * dv[1], ov[2] + t * dv[2]};
         if (r->octree) {
@@ -239,7 +262,7 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
                 t_exit -= 1e-3f;
                 if (perspective) {
                     /* The floor level must not change inside the jump. */
-                    float t_level = exp2f((float)(n + 1) + cam->level3d_offset) /
+                    float t_level = exp2f((float)(n + 1) + r->level3d_offset) /
                                     (growth - 1.0f);
                     if (n + 1 <= (int)top && t_level < t_exit)
                         t_exit = t_level;
@@ -266,7 +289,7 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
             if (spacing != 1.0f) {
                 /* Opacity per unit length is fixed; a sample standing for
                  * `spacing` units has opacity 1 - (1 - a)^spacing. */
-                float ac = a >= 1.0f ? 1.0f : 1.0f - powf(1.0f - a, spacing);
+                float ac = correct_alpha(r, level2d, perspective, spacing, a);
                 float scale = ac / a;
                 c[0] *= scale;
                 c[1] *= scale;

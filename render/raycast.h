@@ -9,8 +9,15 @@
  * the sample spacing tied to the ray's 2D mip level (spacing = step * 2^level
  * object units: 1 ray per 2^level pixels <-> 1 sample per 2^level voxels,
  * paper §6), draw each sample from the 3D mip map at
- * 3DLevel = log2(spacing^3 / voxel volume) / 3 (the paper's "volume of the 3D
- * convolution mask in voxels"), shade the viewpoint-dependent part, and
+ * 3DLevel = log2(mask volume in voxels) / 3 with the mask's extent
+ * proportional to the sample spacing, the constant chosen so that the
+ * full-resolution spacing `sample_step` is a one-voxel mask:
+ * 3DLevel = log2(spacing / sample_step).  This gives the paper's pairing of
+ * "1 ray per 16 pixels" with "1 sample per 64 voxels" (level 2 in both) and
+ * integer levels (one trilinear lookup) under parallel projection; the mip
+ * map is built in voxel-index space, so anisotropic voxels stay anisotropic
+ * at every level.  Perspective spacing grows with distance, so its levels
+ * are fractional and blend two levels.  Then shade the viewpoint-dependent part, and
  * composite with early ray termination.  Opacity is corrected for the sample
  * spacing (a' = 1 - (1 - a)^spacing), which the paper does not mention: without
  * it coarse rays would come out more transparent than fine ones. */
@@ -52,7 +59,6 @@ typedef struct {
     float radius;                        /* bounding-sphere radius of the volume */
     float box_hi[3];                     /* sampled region [0, box_hi] in object space */
     float inv_spacing[3];                /* object units -> level-0 voxel coordinates */
-    float level3d_offset;                /* log2(voxel volume)/3, subtracted from log2(spacing) */
 } camera_t;
 
 void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height);
@@ -65,14 +71,21 @@ typedef struct {
     uint64_t samples_skipped;  /* sample positions jumped over by the octree */
 } raycast_counts_t;
 
+#define RAYCAST_LUT_LEVELS 8
+#define RAYCAST_LUT_SIZE 1024
+
 typedef struct {
     const mip3d_t *mip;
     const octree_t *octree;    /* NULL: no empty-space skipping */
     const camera_t *camera;
     const shade_params_t *shade;
     float sample_step;
+    float level3d_offset;      /* log2(sample_step): 3DLevel = log2(spacing) - this */
     float early_termination;
     float light_obj[3];        /* light direction in object space for this frame */
+    /* Parallel projection: opacity correction 1 - (1 - a)^spacing tabulated
+     * per 2D level (spacing = step * 2^level), linear between entries. */
+    float alpha_lut[RAYCAST_LUT_LEVELS][RAYCAST_LUT_SIZE + 1];
 } raycast_ctx_t;
 
 void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, const camera_t *c,
