@@ -10,6 +10,7 @@
 #include "volume.h"
 #include "volume_io.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -112,7 +113,7 @@ pp5_status_t volume_load_nifti(const char *path, volume_t *out, volume_file_info
     nifti_set_debug_level(0);
     FILE *probe = fopen(path, "rb");
     if (!probe)
-        return pp5_fail(PP5_E_IO, "%s: cannot open", path);
+        return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno));
     fclose(probe);
     pp5_status_t pre = precheck_header(path);
     if (pre != PP5_OK)

@@ -10,6 +10,7 @@
 #include "volume.h"
 #include "volume_io.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,6 +119,10 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_
 {
     int dims[3];
     unsigned first = 0;
+    FILE *exists = fopen(path, "rb");
+    if (!exists)
+        return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    fclose(exists);
     Nrrd *n = nrrdNew();
     NrrdIoState *nio = nrrdIoStateNew();
     if (!n || !nio) {
