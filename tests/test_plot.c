@@ -238,3 +238,42 @@ TEST(plot_rejects_bad_input_and_is_deterministic)
     image8_free(&b);
     plot_free(&p);
 }
+
+TEST(plot_reference_lines_are_dashed_at_their_value)
+{
+    plot_t p;
+    plot_init(&p, NULL, "x", "y");
+    double xs[2] = {0, 10}, ys[2] = {0, 0.5};
+    REQUIRE(plot_add_series(&p, "s", xs, ys, 2) == PP5_OK);
+    plot_set_xrange(&p, 0, 10);
+    plot_set_yrange(&p, 0, 10);
+    REQUIRE(plot_add_xref(&p, 3, "12 deg") == PP5_OK);
+    REQUIRE(plot_add_yref(&p, 6, NULL) == PP5_OK);
+    REQUIRE(plot_add_xref(&p, 42, "off the chart") == PP5_OK);
+    CHECK_EQ(plot_add_yref(&p, NAN, "bad"), PP5_E_RANGE);
+    image8_t img;
+    REQUIRE_MSG(plot_render(&p, 400, 300, &img) == PP5_OK, "%s", pp5_error_text());
+    int x0, x1, y0, y1;
+    find_frame(&img, &x0, &x1, &y0, &y1);
+    int col = (int)lround(x0 + 0.3 * (x1 - x0));
+    int row = (int)lround(y1 - 0.6 * (y1 - y0));
+    int on = 0, off = 0;
+    for (int y = y0 + 1; y < y1; y++) {
+        if (is_rgb(&img, col, y, 90, 90, 90))
+            on++;
+        else
+            off++;
+    }
+    /* Dashes: about 4 of every 7 pixels inked. */
+    CHECK_MSG(on > 0 && off > 0 && fabs(on / (double)(on + off) - 4.0 / 7.0) < 0.1,
+              "vertical dash pattern %d on, %d off", on, off);
+    int hon = 0;
+    for (int x = x0 + 1; x < x1; x++)
+        hon += is_rgb(&img, x, row, 90, 90, 90);
+    CHECK_MSG(hon > (x1 - x0) / 3, "horizontal ref at row %d: %d inked", row, hon);
+    image8_free(&img);
+    for (int i = p.n_refs; i < PLOT_MAX_REFS; i++)
+        REQUIRE(plot_add_yref(&p, 1, "r") == PP5_OK);
+    CHECK_EQ(plot_add_yref(&p, 1, "r"), PP5_E_RANGE);
+    plot_free(&p);
+}

@@ -152,6 +152,29 @@ pp5_status_t plot_set_categories(plot_t *p, const char *const *labels, int n)
     return PP5_OK;
 }
 
+static pp5_status_t add_ref(plot_t *p, bool vertical, double at, const char *label)
+{
+    if (p->n_refs >= PLOT_MAX_REFS)
+        return pp5_fail(PP5_E_RANGE, "plot: more than %d reference lines", PLOT_MAX_REFS);
+    if (!isfinite(at))
+        return pp5_fail(PP5_E_RANGE, "plot: reference line position is not finite");
+    p->refs[p->n_refs].vertical = vertical;
+    p->refs[p->n_refs].at = at;
+    snprintf(p->refs[p->n_refs].label, sizeof p->refs[p->n_refs].label, "%s", label ? label : "");
+    p->n_refs++;
+    return PP5_OK;
+}
+
+pp5_status_t plot_add_xref(plot_t *p, double at, const char *label)
+{
+    return add_ref(p, true, at, label);
+}
+
+pp5_status_t plot_add_yref(plot_t *p, double at, const char *label)
+{
+    return add_ref(p, false, at, label);
+}
+
 /* 1, 2 or 5 times a power of ten, at least `raw`. */
 static double nice_step(double raw)
 {
@@ -571,6 +594,37 @@ static void draw_stacked(image8_t *img, const layout_t *L, const plot_t *p)
     }
 }
 
+/* Dashed (4 on, 3 off) gray lines with their labels, over the data. */
+static void draw_refs(image8_t *img, const layout_t *L, const plot_t *p)
+{
+    static const uint8_t ref_gray[3] = {90, 90, 90};
+    int s = L->scale;
+    for (int i = 0; i < p->n_refs; i++) {
+        if (p->refs[i].vertical) {
+            double fx = map_x(L, p->refs[i].at);
+            if (fx < L->x0 || fx > L->x1)
+                continue;
+            int x = round_px(fx);
+            for (int y = L->y0 + 1; y < L->y1; y++)
+                if ((y - L->y0) % 7 < 4)
+                    plot_put_pixel(img, x, y, ref_gray);
+            plot_draw_text(img, x + 3, L->y0 + 3, p->refs[i].label, s, ref_gray);
+        } else {
+            if (p->log_y && !(p->refs[i].at > 0))
+                continue;
+            double fy = map_y(L, p, p->refs[i].at);
+            if (fy < L->y0 || fy > L->y1)
+                continue;
+            int y = round_px(fy);
+            for (int x = L->x0 + 1; x < L->x1; x++)
+                if ((x - L->x0) % 7 < 4)
+                    plot_put_pixel(img, x, y, ref_gray);
+            plot_draw_text(img, L->x1 - 3 - plot_text_width(p->refs[i].label, s),
+                           y - 7 * s - 3, p->refs[i].label, s, ref_gray);
+        }
+    }
+}
+
 static void draw_axes(image8_t *img, const layout_t *L, const plot_t *p)
 {
     int s = L->scale, ch = 7 * s;
@@ -667,6 +721,7 @@ pp5_status_t plot_render(const plot_t *p, int width, int height, image8_t *img)
     for (int i = 0; i < p->n_series; i++)
         if (!p->series[i].stacked)
             draw_line_series(img, &L, p, &p->series[i]);
+    draw_refs(img, &L, p);
     draw_axes(img, &L, p);
     draw_legend(img, &L, p);
     return PP5_OK;

@@ -28,6 +28,7 @@
 #define PLOT_MAX_SERIES 16
 #define PLOT_MAX_POINTS 1000000
 #define PLOT_MAX_CATEGORIES 64
+#define PLOT_MAX_REFS 8
 
 typedef enum {
     PLOT_LINE,      /* straight segments between points (default for plot_add_series) */
@@ -63,6 +64,13 @@ typedef struct {
     /* Optional text labels under x = 0, 1, ..., n-1 (bar charts of named cases). */
     char categories[PLOT_MAX_CATEGORIES][32];
     int n_categories;
+    /* Dashed reference lines (plot_add_xref / plot_add_yref). */
+    struct {
+        bool vertical;
+        double at;
+        char label[48];
+    } refs[PLOT_MAX_REFS];
+    int n_refs;
 } plot_t;
 
 /* Initialises an empty plot; NULL texts mean none. Never fails. */
@@ -87,6 +95,12 @@ void plot_set_xrange(plot_t *p, double xmin, double xmax);
 void plot_set_yrange(plot_t *p, double ymin, double ymax);
 void plot_set_log_y(plot_t *p, bool log_y);
 void plot_set_legend(plot_t *p, bool on);
+/* A dashed gray reference line at x = at (xref, vertical) or y = at (yref),
+ * labelled near its top/right end, e.g. the 12 and 20 degree limits of the
+ * sweet spot.  Lines outside the axis ranges are not drawn; they do not
+ * widen the automatic ranges.  Errors: more than PLOT_MAX_REFS, non-finite. */
+pp5_status_t plot_add_xref(plot_t *p, double at, const char *label);
+pp5_status_t plot_add_yref(plot_t *p, double at, const char *label);
 /* Text labels for x = 0..n-1 instead of numeric x ticks. */
 pp5_status_t plot_set_categories(plot_t *p, const char *const *labels, int n);
 
