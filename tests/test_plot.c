@@ -277,3 +277,43 @@ TEST(plot_reference_lines_are_dashed_at_their_value)
     CHECK_EQ(plot_add_yref(&p, 1, "r"), PP5_E_RANGE);
     plot_free(&p);
 }
+
+TEST(plot_data_far_outside_fixed_ranges_is_clipped)
+{
+    plot_t p;
+    plot_init(&p, "clip", "x", "y");
+    double xs[3] = {-1e30, 5, 1e30}, ys[3] = {1e30, 5, -1e30};
+    REQUIRE(plot_add_series(&p, "wild", xs, ys, 3) == PP5_OK);
+    plot_set_style(&p, 0, PLOT_LINE_POINTS);
+    double bx[2] = {20, 30}, by[2] = {1, 2};
+    REQUIRE(plot_add_stacked(&p, "bars off to the right", bx, by, 2) == PP5_OK);
+    plot_set_color(&p, 1, 0, 0, 255);
+    plot_set_xrange(&p, 0, 10);
+    plot_set_yrange(&p, 0, 10);
+    image8_t img;
+    REQUIRE_MSG(plot_render(&p, 300, 200, &img) == PP5_OK, "%s", pp5_error_text());
+    int blue = 0;
+    for (int i = 0; i < 300 * 200; i++)
+        blue += img.pixels[3 * i] == 0 && img.pixels[3 * i + 1] == 0 &&
+                img.pixels[3 * i + 2] == 255;
+    /* Only the legend swatch may be blue: no bar leaks into the chart. */
+    int x0, x1, y0, y1;
+    find_frame(&img, &x0, &x1, &y0, &y1);
+    int inside = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            inside += is_rgb(&img, x, y, 0, 0, 255);
+    CHECK_EQ(inside, 0);
+    CHECK(blue > 0);   /* the legend swatch */
+    /* ... and nowhere else: the swatch is one text line (7 rows at this size). */
+    int rows = 0;
+    for (int y = 0; y < 200; y++) {
+        bool any = false;
+        for (int x = 0; x < 300; x++)
+            any = any || is_rgb(&img, x, y, 0, 0, 255);
+        rows += any;
+    }
+    CHECK_MSG(rows <= 7, "blue on %d rows", rows);
+    image8_free(&img);
+    plot_free(&p);
+}

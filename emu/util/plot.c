@@ -431,8 +431,14 @@ bool plot_data_to_pixel(const plot_t *p, int width, int height, double x, double
     return true;
 }
 
+/* Nearest pixel; far-off positions (data outside a fixed axis range) are
+ * clamped so the conversion to int is always defined. */
 static int round_px(double v)
 {
+    if (!(v > -1e6))
+        return -1000000;
+    if (v > 1e6)
+        return 1000000;
     return (int)floor(v + 0.5);
 }
 
@@ -549,6 +555,8 @@ static void draw_stacked(image8_t *img, const layout_t *L, const plot_t *p)
             int xb = round_px(map_x(L, base->xs[k] + L->bar_width / 2));
             xa = xa < L->x0 ? L->x0 : xa;
             xb = xb > L->x1 ? L->x1 : xb;
+            if (xa > xb)
+                continue;   /* bar outside a fixed x range */
             for (int i = 0; i < p->n_series; i++) {
                 const plot_series_t *s = &p->series[i];
                 if (!s->stacked)
