@@ -175,44 +175,6 @@ pp5_status_t volume_load_nifti(const char *path, volume_t *out, volume_file_info
 
 #else
 
-/* Checks the fixed part of the 348-byte header ourselves first: clearer
- * messages than niftilib's (which it prints to stderr whatever the debug
- * level), and no library call on a file that is not NIfTI-1 at all. */
-static pp5_status_t precheck_header(const char *path)
-{
-    gzFile g = gzopen(path, "rb");
-    if (!g)
-        return pp5_fail(PP5_E_IO, "%s: cannot open", path);
-    uint8_t h[348];
-    int got = gzread(g, h, sizeof h);
-    gzclose(g);
-    if (got != (int)sizeof h)
-        return pp5_fail(PP5_E_FORMAT, "%s: truncated: %d bytes, a NIfTI-1 header needs 348",
-                        path, got < 0 ? 0 : got);
-    uint32_t le = (uint32_t)h[0] | (uint32_t)h[1] << 8 | (uint32_t)h[2] << 16 |
-                  (uint32_t)h[3] << 24;
-    uint32_t be = (uint32_t)h[3] | (uint32_t)h[2] << 8 | (uint32_t)h[1] << 16 |
-                  (uint32_t)h[0] << 24;
-    if (le != 348 && be != 348)
-        return pp5_fail(PP5_E_FORMAT, "%s: not NIfTI-1: sizeof_hdr is %u, not 348", path,
-                        (unsigned)le);
-    bool big = le != 348;
-    if (memcmp(h + 344, "n+1", 4) != 0 && memcmp(h + 344, "ni1", 4) != 0)
-        return pp5_fail(PP5_E_FORMAT, "%s: not NIfTI-1: magic is not \"n+1\" or \"ni1\"",
-                        path);
-    int dim[8];
-    for (int i = 0; i < 8; i++) {
-        const uint8_t *p = h + 40 + 2 * i;
-        dim[i] = (int16_t)(big ? (p[0] << 8 | p[1]) : (p[1] << 8 | p[0]));
-    }
-    if (dim[0] < 1 || dim[0] > 7)
-        return pp5_fail(PP5_E_FORMAT, "%s: NIfTI dim[0] = %d, must be 1..7", path, dim[0]);
-    for (int i = 1; i <= dim[0]; i++)
-        if (dim[i] < 1)
-            return pp5_fail(PP5_E_RANGE, "%s: NIfTI dim[%d] = %d, must be >= 1", path, i, dim[i]);
-    return PP5_OK;
-}
-
 pp5_status_t volume_load_nifti(const char *path, volume_t *out, volume_file_info_t *info)
 {
     (void)out;

@@ -762,9 +762,9 @@ TEST(vol_cli_info_and_phantom)
     REQUIRE(pp5_test_run_cli(args, outp, errp) == 0);
     char *text = pp5_test_read_file(outp);
     REQUIRE(text != NULL);
-    CHECK_MSG(strstr(text, "16 x 16 x 8") != NULL, "%s", text);
-    CHECK_MSG(strstr(text, "range:    0 .. 200") != NULL, "%s", text);
-    CHECK_MSG(strstr(text, "stored as f32") != NULL, "%s", text);
+    CHECK_MSG(strstr(text, "16 x 16 x 8") != NULL, "%s", text ? text : "");
+    CHECK_MSG(strstr(text, "range:    0 .. 200") != NULL, "%s", text ? text : "");
+    CHECK_MSG(strstr(text, "stored as f32") != NULL, "%s", text ? text : "");
     free(text);
 
     uint8_t b[24];
@@ -776,13 +776,13 @@ TEST(vol_cli_info_and_phantom)
     REQUIRE(pp5_test_run_cli(args, outp, errp) == 0);
     text = pp5_test_read_file(outp);
     REQUIRE(text != NULL);
-    CHECK_MSG(strstr(text, "range:    1 .. 24") != NULL, "%s", text);
+    CHECK_MSG(strstr(text, "range:    1 .. 24") != NULL, "%s", text ? text : "");
     free(text);
     snprintf(args, sizeof args, "volume info %s --dims 2x3x5 --type u8", raw);
     CHECK_EQ(pp5_test_run_cli(args, outp, errp), 1);
     text = pp5_test_read_file(errp);
     REQUIRE(text != NULL);
-    CHECK_MSG(strstr(text, "r.bin") && strstr(text, "truncated"), "%s", text);
+    CHECK_MSG(strstr(text, "r.bin") && strstr(text, "truncated"), "%s", text ? text : "");
     free(text);
     snprintf(args, sizeof args, "volume info %s --dims 2x3 --type u8", raw);
     CHECK_EQ(pp5_test_run_cli(args, outp, errp), 2);
