@@ -159,7 +159,7 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_
     if (st == PP5_OK)
         st = volume_alloc(&tmp, dims[0], dims[1], dims[2]);
     if (st == PP5_OK) {
-        voxel_type_t vt;
+        voxel_type_t vt = VOXEL_U8;   /* set by nrrd_to_voxel_type: check_header accepted the type */
         nrrd_to_voxel_type(n->type, &vt);
         const uint16_t probe = 1;
         bool host_big_endian = *(const uint8_t *)&probe == 0;
@@ -182,7 +182,7 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_
         }
         snprintf(tmp.source, sizeof tmp.source, "%.480s", path);
         volume_update_stats(&tmp);
-        voxel_type_t vt;
+        voxel_type_t vt = VOXEL_U8;   /* set by nrrd_to_voxel_type: check_header accepted the type */
         nrrd_to_voxel_type(n->type, &vt);
         const uint16_t probe = 1;
         volume_set_info(info, "nrrd", vt, *(const uint8_t *)&probe == 0);
