@@ -317,3 +317,35 @@ TEST(plot_data_far_outside_fixed_ranges_is_clipped)
     image8_free(&img);
     plot_free(&p);
 }
+
+TEST(plot_y_down_puts_small_values_at_the_top)
+{
+    /* A gaze trace in pixel coordinates: y = 100 should be near the top. */
+    plot_t p;
+    plot_init(&p, "gaze", "x (px)", "y (px)");
+    double xs[2] = {0, 400}, ys[2] = {100, 100};
+    REQUIRE(plot_add_series(&p, "gaze", xs, ys, 2) == PP5_OK);
+    plot_set_color(&p, 0, 255, 0, 0);
+    plot_set_xrange(&p, 0, 400);
+    plot_set_yrange(&p, 0, 400);
+    plot_set_y_down(&p, true);
+    double sx[1] = {200}, sh[1] = {50};
+    REQUIRE(plot_add_stacked(&p, "bar", sx, sh, 1) == PP5_OK);
+    plot_set_color(&p, 1, 0, 0, 255);
+    image8_t img;
+    REQUIRE(plot_render(&p, 400, 300, &img) == PP5_OK);
+    int x0, x1, y0, y1;
+    find_frame(&img, &x0, &x1, &y0, &y1);
+    double want = y0 + 0.25 * (y1 - y0);
+    int col = (x0 + x1) / 2 - 40, first = -1;
+    for (int y = 0; y < img.height && first < 0; y++)
+        if (is_rgb(&img, col, y, 255, 0, 0))
+            first = y;
+    CHECK_MSG(first >= 0 && fabs(first - want) <= 1.5, "red at %d, expected ~%.1f", first, want);
+    /* The bar from 0 to 50 hangs from the top edge. */
+    int bar_col = (x0 + x1) / 2;
+    CHECK(is_rgb(&img, bar_col, (int)lround(y0 + 0.06 * (y1 - y0)), 0, 0, 255));
+    CHECK(!is_rgb(&img, bar_col, (int)lround(y0 + 0.5 * (y1 - y0)), 0, 0, 255));
+    image8_free(&img);
+    plot_free(&p);
+}

@@ -127,6 +127,7 @@ void plot_set_color(plot_t *p, int index, uint8_t r, uint8_t g, uint8_t b)
 void plot_set_stack_style(plot_t *p, plot_stack_style_t style) { p->stack_style = style; }
 void plot_set_log_y(plot_t *p, bool log_y) { p->log_y = log_y; }
 void plot_set_legend(plot_t *p, bool on) { p->legend = on; }
+void plot_set_y_down(plot_t *p, bool y_down) { p->y_down = y_down; }
 
 void plot_set_xrange(plot_t *p, double xmin, double xmax)
 {
@@ -412,10 +413,16 @@ static double map_x(const layout_t *L, double x)
     return L->x0 + (x - L->xmin) / (L->xmax - L->xmin) * (L->x1 - L->x0);
 }
 
+/* Row of a y value already in axis units (log10 units on a log axis). */
+static double axis_row(const layout_t *L, const plot_t *p, double v)
+{
+    double f = (v - L->ymin) / (L->ymax - L->ymin);
+    return p->y_down ? L->y0 + f * (L->y1 - L->y0) : L->y1 - f * (L->y1 - L->y0);
+}
+
 static double map_y(const layout_t *L, const plot_t *p, double y)
 {
-    double v = p->log_y ? log10(y) : y;
-    return L->y1 - (v - L->ymin) / (L->ymax - L->ymin) * (L->y1 - L->y0);
+    return axis_row(L, p, p->log_y ? log10(y) : y);
 }
 
 bool plot_data_to_pixel(const plot_t *p, int width, int height, double x, double y, double *px,
@@ -563,6 +570,7 @@ static void draw_stacked(image8_t *img, const layout_t *L, const plot_t *p)
                     continue;
                 double top = bottom + s->ys[k];
                 int ya = round_px(map_y(L, p, top)), yb = round_px(map_y(L, p, bottom));
+                if (ya > yb) { int t = ya; ya = yb; yb = t; }   /* y_down */
                 ya = ya < L->y0 ? L->y0 : ya;
                 yb = yb > L->y1 ? L->y1 : yb;
                 if (ya <= yb && s->ys[k] > 0)
@@ -593,6 +601,7 @@ static void draw_stacked(image8_t *img, const layout_t *L, const plot_t *p)
             double v = base->n > 1 ? s->ys[k] * (1 - w) + s->ys[k + 1] * w : s->ys[0];
             double top = bottom + v;
             int ya = round_px(map_y(L, p, top)), yb = round_px(map_y(L, p, bottom));
+            if (ya > yb) { int t = ya; ya = yb; yb = t; }   /* y_down */
             ya = ya < L->y0 ? L->y0 : ya;
             yb = yb > L->y1 ? L->y1 : yb;
             for (int y = ya; y <= yb && v > 0; y++)
@@ -649,7 +658,7 @@ static void draw_axes(image8_t *img, const layout_t *L, const plot_t *p)
         plot_put_pixel(img, L->x1, y, black);
     }
     for (int i = 0; i < L->n_yticks; i++) {
-        int y = round_px(L->y1 - (L->yticks[i] - L->ymin) / (L->ymax - L->ymin) * (L->y1 - L->y0));
+        int y = round_px(axis_row(L, p, L->yticks[i]));
         for (int d = 1; d <= TICK_PX; d++)
             plot_put_pixel(img, L->x0 - d, y, black);
         tick_label(L->yticks[i], ystep, p->log_y, buf, sizeof buf);
@@ -715,7 +724,7 @@ pp5_status_t plot_render(const plot_t *p, int width, int height, image8_t *img)
     memset(img->pixels, 255, (size_t)width * height * 3);
     /* Grid lines under the data. */
     for (int i = 0; i < L.n_yticks; i++) {
-        int y = round_px(L.y1 - (L.yticks[i] - L.ymin) / (L.ymax - L.ymin) * (L.y1 - L.y0));
+        int y = round_px(axis_row(&L, p, L.yticks[i]));
         for (int x = L.x0 + 1; x < L.x1; x++)
             plot_put_pixel(img, x, y, grid_gray);
     }

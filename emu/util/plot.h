@@ -61,6 +61,7 @@ typedef struct {
     double xmin, xmax, ymin, ymax;
     bool log_y;               /* logarithmic y axis (all y values must be > 0) */
     bool legend;              /* default true when more than one series */
+    bool y_down;              /* y grows downwards (image/gaze pixel coordinates) */
     /* Optional text labels under x = 0, 1, ..., n-1 (bar charts of named cases). */
     char categories[PLOT_MAX_CATEGORIES][32];
     int n_categories;
@@ -95,6 +96,8 @@ void plot_set_xrange(plot_t *p, double xmin, double xmax);
 void plot_set_yrange(plot_t *p, double ymin, double ymax);
 void plot_set_log_y(plot_t *p, bool log_y);
 void plot_set_legend(plot_t *p, bool on);
+/* Smallest y at the top, as in image and gaze-trace pixel coordinates. */
+void plot_set_y_down(plot_t *p, bool y_down);
 /* A dashed gray reference line at x = at (xref, vertical) or y = at (yref),
  * labelled near its top/right end, e.g. the 12 and 20 degree limits of the
  * sweet spot.  Lines outside the axis ranges are not drawn; they do not
