@@ -137,6 +137,11 @@ pp5_status_t volume_load_raw(const char *path, const volume_raw_spec_t *raw, vol
     FILE *f = fopen(path, "rb");
     if (!f)
         return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat kind;
+    if (fstat(fileno(f), &kind) == 0 && S_ISDIR(kind.st_mode)) {
+        fclose(f);
+        return pp5_fail(PP5_E_IO, "%s: is a directory, not a volume file", path);
+    }
     bool gz = is_gzip(f);
     if (!gz) {
         /* Uncompressed: the size is known up front, so check it before reading. */
