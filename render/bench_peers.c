@@ -6,9 +6,11 @@
 #include <string.h>
 #include <unistd.h>
 
-int render_peers_run(const char *dataset_path, int size, double ours_full_ms);
+int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
+                     double ours_gaze_ms);
 
-int render_peers_run(const char *dataset_path, int size, double ours_full_ms)
+int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
+                     double ours_gaze_ms)
 {
     if (!dataset_path) {
         printf("   peers: skipped (CThead absent; peers need the real data)\n");
@@ -19,8 +21,8 @@ int render_peers_run(const char *dataset_path, int size, double ours_full_ms)
         return 0;
     }
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "sh render/peers/run_peers.sh '%s' %d %.3f", dataset_path, size,
-             ours_full_ms);
+    snprintf(cmd, sizeof cmd, "sh render/peers/run_peers.sh '%s' %d %.1f %.1f", dataset_path,
+             size, ours_full_ms, ours_gaze_ms);
     fflush(stdout);
     int rc = system(cmd);
     if (rc != 0)

@@ -71,6 +71,8 @@ pp5_status_t gaze_model_init(gaze_model_t *g, const gaze_display_t *d, int width
                             d->span1_diameter_in);
         g->sigma_deg = (e5 - g->e_full_deg) / sqrt(2.0 * log(ratio));
     }
+    g->r_zero_px = gaze_radius_px(g, g->e_full_deg) * (1.0 - 1e-9);
+    g->r_max_px = gaze_radius_px(g, g->e_edge_deg) * (1.0 + 1e-9);
     return PP5_OK;
 }
 
@@ -96,6 +98,10 @@ double gaze_target_rays_per_px(const gaze_model_t *g, double e_deg)
 
 float gaze_level(const gaze_model_t *g, double r_px)
 {
+    if (r_px <= g->r_zero_px)
+        return 0.0f;
+    if (r_px >= g->r_max_px)
+        return (float)g->max_level;
     double rho = gaze_target_rays_per_px(g, gaze_eccentricity_deg(g, r_px));
     double level = 0.5 * log2(1.0 / rho);
     if (level < 0.0)

@@ -59,6 +59,10 @@ typedef struct {
     double inches_per_px;
     double e_full_deg, e_edge_deg, sigma_deg, rho_min;
     int max_level;               /* log4(1 / rho_min), rounded up */
+    /* Radii (px) inside/outside which 2DLevel is exactly 0 / max_level, with a
+     * 1e-9 relative margin: lets gaze_level skip the transcendental functions
+     * for most pixels without changing any result. */
+    double r_zero_px, r_max_px;
     bool fits_monitor;           /* image fits on the stated monitor */
 } gaze_model_t;
 

@@ -5,14 +5,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Dilation window of a cell relative to its index (see octree.h). */
-#define OCTREE_DILATE_LO 2
-#define OCTREE_DILATE_HI 3
+/* Dilation windows of a cell relative to its index (see octree.h): blended
+ * samples read [i-2, i+3], exact-level samples [i, i+1]. */
+#define OCTREE_BLEND_LO 2
+#define OCTREE_BLEND_HI 3
+#define OCTREE_EXACT_LO 0
+#define OCTREE_EXACT_HI 1
 
-static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride)
+static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, int lo, int hi)
 {
     for (int i = 0; i < n; i++) {
-        int a = i - OCTREE_DILATE_LO, b = i + OCTREE_DILATE_HI;
+        int a = i - lo, b = i + hi;
         if (a < 0)
             a = 0;
         if (b > n - 1)
@@ -33,13 +36,15 @@ static void grid_free(octree_grid_t *g)
 
 void octree_free(octree_t *o)
 {
-    for (int n = 0; n < MIP3D_MAX_LEVELS; n++)
+    for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
         grid_free(&o->grid[n]);
+        grid_free(&o->exact[n]);
+    }
     memset(o, 0, sizeof *o);
 }
 
 static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int stride,
-                               size_t *bytes)
+                               int lo, int hi, size_t *bytes)
 {
     int nx = L->nx, ny = L->ny, nz = L->nz;
     size_t count = (size_t)nx * (size_t)ny * (size_t)nz;
@@ -55,17 +60,17 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
     for (int z = 0; z < nz; z++)
         for (int y = 0; y < ny; y++) {
             size_t base = ((size_t)z * ny + y) * nx;
-            dilate_line(a + base, b + base, nx, 1);
+            dilate_line(a + base, b + base, nx, 1, lo, hi);
         }
     for (int z = 0; z < nz; z++)
         for (int x = 0; x < nx; x++) {
             size_t base = (size_t)z * ny * nx + x;
-            dilate_line(b + base, a + base, ny, (size_t)nx);
+            dilate_line(b + base, a + base, ny, (size_t)nx, lo, hi);
         }
     for (int y = 0; y < ny; y++)
         for (int x = 0; x < nx; x++) {
             size_t base = (size_t)y * nx + x;
-            dilate_line(a + base, b + base, nz, (size_t)nx * ny);
+            dilate_line(a + base, b + base, nz, (size_t)nx * ny, lo, hi);
         }
     free(a);
     g->occupied[0] = b;
@@ -104,7 +109,11 @@ pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
     (void)threads;
     memset(o, 0, sizeof *o);
     for (int n = 0; n < m->levels; n++) {
-        pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, &o->bytes);
+        pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, OCTREE_BLEND_LO,
+                                     OCTREE_BLEND_HI, &o->bytes);
+        if (st == PP5_OK)
+            st = grid_build(&o->exact[n], &m->level[n], m->stride, OCTREE_EXACT_LO,
+                            OCTREE_EXACT_HI, &o->bytes);
         o->mip_levels = n + 1;
         if (st != PP5_OK) {
             octree_free(o);
@@ -114,11 +123,12 @@ pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
     return PP5_OK;
 }
 
-int octree_empty_node(const octree_t *o, int n, const float p[3], float lo[3], float hi[3])
+int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
+                      float hi[3])
 {
     if (n >= o->mip_levels)
         n = o->mip_levels - 1;
-    const octree_grid_t *g = &o->grid[n];
+    const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
     int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
     for (int a = 0; a < 3; a++) {
         float q = mip3d_level_coord(p[a], n);

@@ -9,7 +9,11 @@
  * a "cell" grid: cell i (the sample's level-n coordinate lies in [i, i+1) per
  * axis) is occupied when any level-n voxel in [i-2, i+3]^3 has opacity > 0.
  * That is conservative: a sample in an empty cell is exactly zero in both
- * levels.  Above each cell grid sits an OR pyramid up to a single node.
+ * levels.  A sample at an integer level (always so under parallel
+ * projection) reads only level n, so a second, tighter grid marks cell i
+ * occupied when a voxel in [i, i+1]^3 is: far fewer cells are occupied and
+ * skipping goes further.  Above each cell grid sits an OR pyramid up to a
+ * single node.
  *
  * Per sample the ray tracer asks for the largest empty node containing the
  * sample's cell.  The answer is the one the paper's top-down descent finds
@@ -20,6 +24,7 @@
 #ifndef PP5_OCTREE_H
 #define PP5_OCTREE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include "mip3d.h"
 
@@ -33,18 +38,21 @@ typedef struct {
 
 typedef struct {
     int mip_levels;
-    octree_grid_t grid[MIP3D_MAX_LEVELS];  /* one per mip level a sample may use as floor */
+    octree_grid_t grid[MIP3D_MAX_LEVELS];  /* blended samples: floor level n, [i-2, i+3] */
+    octree_grid_t exact[MIP3D_MAX_LEVELS]; /* samples at exactly level n: [i, i+1] */
     size_t bytes;
 } octree_t;
 
 pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads);
 void octree_free(octree_t *o);
 
-/* For a sample at level-0 voxel position p whose floor 3D level is n: returns
+/* For a sample at level-0 voxel position p whose floor 3D level is n
+ * (`exact`: the 3D level is exactly n, so only level n is read): returns
  * -1 if the sample may be non-zero, else the height (0 = a single cell) of
  * the largest empty node containing it, with the node's extent in level-0
  * voxel coordinates in lo/hi (+-INFINITY on faces that extend to the edge of
  * the clamped grid). */
-int octree_empty_node(const octree_t *o, int n, const float p[3], float lo[3], float hi[3]);
+int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
+                      float hi[3]);
 
 #endif

@@ -236,15 +236,21 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
     float t = t0;
     if (perspective && t < 1e-3f)
         t = 1e-3f;
+    /* Parallel: spacing and 3DLevel are constant along the ray. */
+    float spacing = base;
+    float level3d = log2f(spacing) - r->level3d_offset;
+    level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
     while (t <= t1) {
-        float spacing = perspective ? t * (growth - 1.0f) : base;
-        float level3d = log2f(spacing) - r->level3d_offset;
-        level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+        if (perspective) {
+            spacing = t * (growth - 1.0f);
+            level3d = log2f(spacing) - r->level3d_offset;
+            level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+        }
         float p[3] = {ov[0] + t * dv[0], ov[1] + t * dv[1], ov[2] + t * dv[2]};
         if (r->octree) {
             float lo[3], hi[3];
             int n = (int)level3d;
-            if (octree_empty_node(r->octree, n, p, lo, hi) >= 0) {
+            if (octree_empty_node(r->octree, n, level3d == (float)n, p, lo, hi) >= 0) {
                 float t_exit = INFINITY;
                 for (int a = 0; a < 3; a++) {
                     float te = INFINITY;

@@ -123,28 +123,42 @@ TEST(mip_sample_blends_two_levels_linearly)
 TEST(mip_octree_empty_means_zero_sample)
 {
     /* Exhaustive check on a sparse volume: wherever the octree reports an
-     * empty node, every sample whose floor level is n is exactly zero, and
-     * the reported node contains the sample. */
+     * empty node, every sample whose floor level is n (or, for the exact grid,
+     * whose level is exactly n) is exactly zero, and the reported node
+     * contains the sample. */
     mip3d_t m;
     build_pattern(&m, 24, 13, 14, few_on);
     octree_t o;
     REQUIRE(octree_build(&o, &m, 1) == PP5_OK);
-    long empty = 0, occupied = 0, bad = 0, outside = 0;
+    long empty = 0, occupied = 0, bad = 0, outside = 0, empty_exact = 0, occupied_exact = 0;
     for (int n = 0; n < m.levels; n++) {
         for (float z = -0.4f; z < 13.4f; z += 0.37f)
             for (float y = -0.4f; y < 12.4f; y += 0.41f)
                 for (float x = -0.4f; x < 23.4f; x += 0.43f) {
                     float p[3] = {x, y, z}, lo[3], hi[3], s[4];
-                    if (octree_empty_node(&o, n, p, lo, hi) < 0) {
+                    /* Blended samples (levels n .. n+1). */
+                    if (octree_empty_node(&o, n, false, p, lo, hi) < 0) {
                         occupied++;
-                        continue;
+                    } else {
+                        empty++;
+                        for (int a = 0; a < 3; a++)
+                            if (!(p[a] >= lo[a] && p[a] < hi[a]))
+                                outside++;
+                        for (float f = 0.0f; f < 1.0f; f += 0.125f) {
+                            mip3d_sample(&m, (float)n + f, p, s);
+                            if (s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f)
+                                bad++;
+                        }
                     }
-                    empty++;
-                    for (int a = 0; a < 3; a++)
-                        if (!(p[a] >= lo[a] && p[a] < hi[a]))
-                            outside++;
-                    for (float f = 0.0f; f < 1.0f; f += 0.25f) {
-                        mip3d_sample(&m, (float)n + f, p, s);
+                    /* Samples at exactly level n. */
+                    if (octree_empty_node(&o, n, true, p, lo, hi) < 0) {
+                        occupied_exact++;
+                    } else {
+                        empty_exact++;
+                        for (int a = 0; a < 3; a++)
+                            if (!(p[a] >= lo[a] && p[a] < hi[a]))
+                                outside++;
+                        mip3d_sample(&m, (float)n, p, s);
                         if (s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f)
                             bad++;
                     }
@@ -152,6 +166,8 @@ TEST(mip_octree_empty_means_zero_sample)
     }
     CHECK(empty > 0);
     CHECK(occupied > 0);
+    CHECK(occupied_exact > 0);
+    CHECK(empty_exact > empty);          /* the exact grid is tighter */
     CHECK_EQ(bad, 0);
     CHECK_EQ(outside, 0);
     octree_free(&o);
