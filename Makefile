@@ -64,13 +64,15 @@ endif
 PP5_VERSION := $(shell git describe --always --dirty 2>/dev/null || echo unknown)
 
 CFLAGS_ALL := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -pthread $(OPT) $(WARN) \
-              -I. -Iemu -Iemu/api -Iemu/util $(PKG_CFLAGS) \
+              -iquote . -iquote emu -iquote emu/api -iquote emu/util $(PKG_CFLAGS) \
               -DPP5_VERSION=\"$(PP5_VERSION)\" $(CFLAGS)
 LDLIBS_ALL := $(PKG_LIBS) -lm -pthread $(LDSAN) $(LDFLAGS)
 
+# Project headers are found with -iquote, so that a module header such as
+# emu/sched.h can never shadow a system header (<sched.h>) of the same name.
 # Firmware sees only the firmware API (emu/api): the include path makes it a
 # compile-time fact that GP programs cannot reach into renderer memory.
-FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) -Iemu/api -Ifirmware $(CFLAGS)
+FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) -iquote emu/api -iquote firmware $(CFLAGS)
 
 LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c tracker/*.c))
 FW_SRC   := $(sort $(wildcard firmware/*.c firmware/*/*.c))
