@@ -74,8 +74,10 @@ LDLIBS_ALL := $(PKG_LIBS) -lm -pthread $(LDSAN) $(LDFLAGS)
 # compile-time fact that GP programs cannot reach into renderer memory.
 FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) -iquote emu/api -iquote firmware $(CFLAGS)
 
-LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c tracker/*.c))
-FW_SRC   := $(sort $(wildcard firmware/*.c firmware/*/*.c))
+# firmware/host/ is the host workstation's side (it loads data and drives the
+# machine through emu's full API); the rest of firmware/ runs on the GPs.
+LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c tracker/*.c firmware/host/*.c))
+FW_SRC   := $(sort $(filter-out firmware/host/%,$(wildcard firmware/*.c firmware/*/*.c)))
 CLI_SRC  := $(sort $(wildcard emu/cli/*.c))
 TEST_SRC := $(sort $(wildcard tests/*.c))
 
@@ -94,6 +96,10 @@ $(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ)
 
 $(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ)
 	$(CC) $(OPT) -o $@ $^ $(LDLIBS_ALL)
+
+$(BUILD)/firmware/host/%.o: firmware/host/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -MMD -MP -c -o $@ $<
 
 $(BUILD)/firmware/%.o: firmware/%.c
 	@mkdir -p $(dir $@)
