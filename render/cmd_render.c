@@ -15,6 +15,9 @@
 #include "render_cli.h"
 #include "renderer_native.h"
 #include "scene.h"
+/* --- firmware hook (firmware/host/fw_render.h): `pp5 render --machine` --- */
+#include "firmware/host/fw_render.h"
+/* --- end firmware hook --- */
 
 static void render_usage(void)
 {
@@ -137,6 +140,12 @@ static int render_main(int argc, char **argv)
     double d, x, y;
     long l;
     int c;
+    /* --- firmware hook: machine-only options are taken out before parsing --- */
+    fw_render_opts_t fw_opts;
+    argc = fw_render_filter_args(argc, argv, &fw_opts, &st);
+    if (st != PP5_OK)
+        return cliopt_report("render", st);
+    /* --- end firmware hook --- */
     optind = 1;
     opterr = 1;
     while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
@@ -231,6 +240,7 @@ static int render_main(int argc, char **argv)
         case OPT_HELP:
         case 'h':
             render_usage();
+            fputs(fw_render_help(), stdout); /* firmware hook */
             return 0;
         default:
             return 2;
@@ -238,6 +248,10 @@ static int render_main(int argc, char **argv)
     }
     if (st == PP5_OK && optind < argc)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);
+    /* --- firmware hook --- */
+    if (st == PP5_OK && fw_opts.machine)
+        return (st = fw_render_cli_run(&cli, &fw_opts, stdout)) == PP5_OK ? 0 : cliopt_report("render", st);
+    /* --- end firmware hook --- */
     if (st == PP5_OK)
         st = render_cli_run(&cli, stdout);
     return st == PP5_OK ? 0 : cliopt_report("render", st);

@@ -1,0 +1,115 @@
+/* vr_shade_fixed.h: the fixed-point formats of the mip map in PP backing store and the per-voxel viewpoint-dependent shading, as integer C.
+ *
+ * One definition used three ways: the GP split shades fetched voxels with it,
+ * the host checks the PP stream (firmware/pp/vr_shade_pp.c) against it bit
+ * for bit, and the host's like-for-like native reference quantises with it.
+ *
+ * Formats (every value fits one 32-bit backing-store block, facts §3.1):
+ *   block A  r8 | g8 << 8 | b8 << 16 | a8 << 24: opacity-weighted colour and
+ *            opacity, q = round(clamp(v, 0, 1) * 255).  In the specular case
+ *            RGB is already diffuse-shaded (viewpoint-independent, mip3d.h).
+ *   block N  unit normal, three signed 10-bit fields nx | ny << 10 | nz << 20,
+ *            n = round(N * 511) (the GP renormalises the filtered a*N).
+ *   block O  the shaded output, same layout as A.
+ * Per frame the half vector H becomes three signed immediates
+ * h = round(H * 2^21 / 511), so N.H has scale 2^21 exactly (up to rounding)
+ * and x = |N.H| >> 6 is Q15.  (N.H)^e by square-and-multiply with
+ * y = (y * y) >> 15 (truncating); specular in units of 1/255:
+ * s = (((y * ks8) >> 15) * a8 + 128) >> 8 with ks8 = round(ks * 256); each
+ * channel saturates at 255.  Errors against float shading are documented in
+ * firmware/ARCHITECTURE.md ("Where the machine's image differs"). */
+#ifndef PP5_VR_SHADE_FIXED_H
+#define PP5_VR_SHADE_FIXED_H
+
+#include <math.h>
+#include <stdint.h>
+
+#define VR_N_SCALE 511.0f
+#define VR_H_SCALE (2097152.0 / 511.0)
+
+typedef struct {
+    int32_t h[3];          /* half vector immediates */
+    int32_t ks8;           /* round(ks * 256) */
+    int32_t exponent;      /* integer specular exponent 1..255 */
+    int32_t two_sided;
+} vr_shade_consts_t;
+
+static inline uint32_t vr_q8(float v)
+{
+    if (!(v > 0.0f))
+        return 0;
+    if (v >= 1.0f)
+        return 255;
+    return (uint32_t)(v * 255.0f + 0.5f);
+}
+
+static inline int32_t vr_q_normal(float v)
+{
+    float s = v * VR_N_SCALE;
+    int32_t q = (int32_t)lrintf(s);
+    return q > 511 ? 511 : (q < -511 ? -511 : q);
+}
+
+static inline uint32_t vr_pack_normal(const float n[3])
+{
+    uint32_t w = 0;
+    for (int k = 0; k < 3; k++)
+        w |= ((uint32_t)vr_q_normal(n[k]) & 0x3ffu) << (10 * k);
+    return w;
+}
+
+static inline int32_t vr_sext10(uint32_t v)
+{
+    v &= 0x3ffu;
+    return (v & 0x200u) ? (int32_t)v - 1024 : (int32_t)v;
+}
+
+static inline void vr_shade_consts(vr_shade_consts_t *c, const float half[3], float ks, int exponent,
+                                   int two_sided)
+{
+    for (int k = 0; k < 3; k++)
+        c->h[k] = (int32_t)lrint((double)half[k] * VR_H_SCALE);
+    c->ks8 = (int32_t)lrintf(ks * 256.0f);
+    c->exponent = exponent;
+    c->two_sided = two_sided;
+}
+
+/* (x / 2^15)^e in Q15 by square-and-multiply from the exponent's top bit. */
+static inline uint32_t vr_pow_q15(uint32_t x, int e)
+{
+    int top = 0;
+    while ((e >> (top + 1)) != 0)
+        top++;
+    uint32_t y = x;
+    for (int b = top - 1; b >= 0; b--) {
+        y = (uint32_t)(((uint64_t)y * y) >> 15) & 0xffffu;
+        if ((e >> b) & 1)
+            y = (uint32_t)(((uint64_t)y * x) >> 15) & 0xffffu;
+    }
+    return y;
+}
+
+/* Shaded block O from blocks A and N. */
+static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk, uint32_t n_blk)
+{
+    int32_t d = 0;
+    for (int k = 0; k < 3; k++)
+        d += vr_sext10(n_blk >> (10 * k)) * c->h[k];
+    if (d < 0)
+        d = c->two_sided ? -d : 0;
+    uint32_t x = ((uint32_t)d >> 6) & 0xffffu;
+    uint32_t y = vr_pow_q15(x, c->exponent);
+    uint32_t s = (uint32_t)((((uint64_t)y * (uint32_t)c->ks8) >> 15) & 0xffffu);
+    uint32_t a8 = a_blk >> 24;
+    uint32_t spec = ((s * a8 + 128u) & 0xffffffu) >> 8;
+    uint32_t out = a_blk & 0xff000000u;
+    for (int k = 0; k < 3; k++) {
+        uint32_t v = ((a_blk >> (8 * k)) & 0xffu) + spec;
+        if (v > 255u)
+            v = 255u;
+        out |= v << (8 * k);
+    }
+    return out;
+}
+
+#endif
