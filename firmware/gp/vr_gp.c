@@ -68,6 +68,7 @@ typedef struct {
     float *texel[VR_MAX_2D_LEVELS];       /* rows jlo..jhi+1 (+1: the next GP's first row) */
     uint8_t *need[VR_MAX_2D_LEVELS];
     int pass, n_passes;                   /* column passes (memory) */
+    int tables_pending;                   /* brick tables still to come from GP 0 */
     vr_shade_consts_t shade_consts;
     vr_probe_t probe;
 } vr_state_t;
@@ -402,27 +403,6 @@ static size_t level_voxels(const vr_level_geom_t *g, int slices)
 /* Occupancy bits of a quantised level part (opacity byte non-zero); the
  * float opacity is > 0 exactly where... see ARCHITECTURE.md: occupancy is
  * taken from the float opacity, before quantisation. */
-static fw_status_t send_occupancy(gp_t *gp, vr_state_t *s, int n, const float *lv, int z0,
-                                  int slices, fw_ops_t *ops)
-{
-    const vr_level_geom_t *g = &s->geom[n];
-    size_t count = level_voxels(g, slices);
-    size_t bytes = (count + 7) / 8;
-    uint8_t *b = fw_alloc(gp, bytes ? bytes : 1);
-    if (!b)
-        return FW_ERROR;
-    for (size_t i = 0; i < count; i++)
-        if (lv[i * s->stride + 3] > 0.0f)
-            b[i >> 3] |= (uint8_t)(1u << (i & 7));
-    ops->loads += count;
-    ops->int_ops += count * 2;
-    ops->branches += count;
-    fw_charge(gp, ops);
-    memset(ops, 0, sizeof *ops);
-    fw_status_t rc = send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)z0, b, bytes);
-    fw_free(gp, b);
-    return rc;
-}
 
 /* Builds this GP's slab: level 0 strip by strip, levels 1..K from each
  * strip, bricks written to the renderers as soon as they are complete. */
@@ -444,9 +424,19 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
     /* Whole-slab float storage for levels 1..K (small), quantised A/N for
      * the same; level 0 lives one strip at a time. */
     float *lvl[VR_MAX_LEVELS] = {0};
+    int lrow0[VR_MAX_LEVELS] = {0}, lrows[VR_MAX_LEVELS] = {0};
+    uint8_t *occb[VR_MAX_LEVELS] = {0};
     for (int n = 1; n <= K; n++) {
         size_t cnt = level_voxels(&s->geom[n], ts[n] > 0 ? ts[n] : 1);
-        lvl[n] = fw_alloc(gp, cnt * (size_t)s->stride * sizeof(float));
+        /* Levels below K: one strip's rows; level K: the whole slab (it goes to GP 0). */
+        lrows[n] = n < K ? (VR_STRIP_ROWS >> n) : s->geom[n].ny;
+        if (lrows[n] < 1)
+            lrows[n] = 1;
+        size_t lcnt = (size_t)s->geom[n].nx * lrows[n] * (ts[n] > 0 ? ts[n] : 1);
+        lvl[n] = fw_alloc(gp, lcnt * (size_t)s->stride * sizeof(float));
+        occb[n] = fw_alloc(gp, cnt / 8 + 1);
+        if (!occb[n])
+            return FW_ERROR;
         s->qa[n] = fw_alloc(gp, cnt * 4);
         s->qn[n] = s->stride == 8 ? fw_alloc(gp, cnt * 4) : NULL;
         if (!lvl[n] || !s->qa[n] || (s->stride == 8 && !s->qn[n]))
@@ -540,13 +530,13 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
         for (int n = 1; n <= K; n++) {
             const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
             int ny0 = sy_n / 2, nrows = (srows + 1) / 2;
-            int src_rows_valid = (n == 1 ? ry : -1);
-            (void)src_rows_valid;
+            if (n < K)
+                lrow0[n] = ny0;
             for (int z = 0; z < ts[n]; z++)
                 for (int y = ny0; y < ny0 + nrows && y < g->ny; y++)
                     for (int x = 0; x < g->nx; x++) {
                         size_t i = ((size_t)z * g->ny + y) * g->nx + x;
-                        float *o = lvl[n] + i * s->stride;
+                        float *o = lvl[n] + (((size_t)z * lrows[n] + (y - lrow0[n])) * g->nx + x) * s->stride;
                         /* children rows 2y, 2y+1 of the source strip/level */
                         float acc[8] = {0};
                         for (int dz = 0; dz < 2; dz++) {
@@ -565,7 +555,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                                     if (n == 1)
                                         cc = src + (((size_t)(cz - zs[0]) * rows + (cy - sy)) * gs->nx + cx) * s->stride;
                                     else
-                                        cc = lvl[n - 1] + (((size_t)(cz - zs[n - 1]) * gs->ny + cy) * gs->nx + cx) * s->stride;
+                                        cc = lvl[n - 1] + (((size_t)(cz - zs[n - 1]) * lrows[n - 1] + (cy - lrow0[n - 1])) * gs->nx + cx) * s->stride;
                                     for (int k = 0; k < s->stride; k++)
                                         acc[k] += cc[k];
                                 }
@@ -575,6 +565,8 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                             o[k] = acc[k] * 0.125f;
                         vr_cost_add(&ops, &VR_COST_FILTER_COMPONENT, (uint64_t)s->stride);
                         quantise(o, s->stride, &s->qa[n][i], s->qn[n] ? &s->qn[n][i] : NULL, &ops);
+                        if (o[3] > 0.0f)
+                            occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
                     }
             sy_n = ny0;
             srows = nrows;
@@ -599,7 +591,8 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                     for (int bx = 0; bx < g->gx; bx++)
                         if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], zs[n], &ops) != FW_OK)
                             return FW_ERROR;
-            if (send_occupancy(gp, s, n, lvl[n], zs[n], ts[n], &ops) != FW_OK)
+            if (send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)zs[n], occb[n],
+                        (level_voxels(g, ts[n]) + 7) / 8) != FW_OK)
                 return FW_ERROR;
         }
         fw_free(gp, s->qa[n]);
@@ -613,8 +606,10 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                     cnt * (size_t)s->stride * sizeof(float)) != FW_OK)
             return FW_ERROR;
     }
-    for (int n = 1; n <= K; n++)
+    for (int n = 1; n <= K; n++) {
         fw_free(gp, lvl[n]);
+        fw_free(gp, occb[n]);
+    }
     return FW_OK;
 }
 
@@ -660,17 +655,6 @@ static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
 
 /* GP 0, once all occupancy is in: octree and non-empty brick table, sent to
  * every GP as one message each (the same bytes every GP then holds). */
-static size_t octree_bytes(const vr_state_t *s)
-{
-    size_t b = 0;
-    for (int n = 0; n < s->cfg.levels; n++) {
-        const octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
-        for (int k = 0; k < 2; k++)
-            for (int h = 0; h < gs[k]->heights; h++)
-                b += bits_words(gs[k]->occ[h].nx, gs[k]->occ[h].ny, gs[k]->occ[h].nz) * 8;
-    }
-    return b + (size_t)s->n_bricks;
-}
 
 static void nonempty_table(vr_state_t *s)
 {
@@ -714,31 +698,6 @@ static fw_status_t alloc_shared(gp_t *gp, vr_state_t *s, bool with_grids)
 }
 
 /* Serialise or deserialise (to = false) the octree and the brick table. */
-static void octree_copy(vr_state_t *s, uint8_t *buf, bool to)
-{
-    size_t off = 0;
-    for (int n = 0; n < s->cfg.levels; n++) {
-        octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
-        for (int k = 0; k < 2; k++)
-            for (int h = 0; h < gs[k]->heights; h++) {
-                size_t b = bits_words(gs[k]->occ[h].nx, gs[k]->occ[h].ny, gs[k]->occ[h].nz) * 8;
-                if (to)
-                    memcpy(buf + off, gs[k]->occ[h].w, b);
-                else
-                    memcpy(gs[k]->occ[h].w, buf + off, b);
-                off += b;
-            }
-    }
-    for (int n = 0; n < s->cfg.levels; n++) {
-        const vr_level_geom_t *g = &s->geom[n];
-        size_t b = (size_t)g->gx * g->gy * g->gz;
-        if (to)
-            memcpy(buf + off, s->brick_nonempty[n], b);
-        else
-            memcpy(s->brick_nonempty[n], buf + off, b);
-        off += b;
-    }
-}
 
 static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
 {
@@ -757,18 +716,25 @@ static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
     }
     fw_charge(gp, &ops);
     s->have_octree = true;
-    size_t bytes = octree_bytes(s);
-    uint8_t *buf = fw_alloc(gp, bytes);
-    if (!buf)
-        return FW_ERROR;
-    octree_copy(s, buf, true);
-    ops = (fw_ops_t){0};
-    ops.loads = ops.stores = bytes / 8;
-    fw_charge(gp, &ops);
-    for (int h = 1; h < s->n_gp; h++)
-        if (send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xffffffffu, 0, buf, bytes) != FW_OK)
-            return FW_ERROR;
-    fw_free(gp, buf);
+    /* Broadcast: one message per grid height and one per brick table,
+     * straight from the octree's memory (fw_send copies the payload). */
+    for (int h = 1; h < s->n_gp; h++) {
+        for (int n = 0; n < s->cfg.levels; n++) {
+            octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
+            for (int k = 0; k < 2; k++)
+                for (int hh = 0; hh < gs[k]->heights; hh++) {
+                    const bits_t *b = &gs[k]->occ[hh];
+                    if (send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xffffffffu,
+                                (uint32_t)(n << 8 | k << 7 | hh), b->w,
+                                bits_words(b->nx, b->ny, b->nz) * 8) != FW_OK)
+                        return FW_ERROR;
+                }
+            const vr_level_geom_t *g = &s->geom[n];
+            if (send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xfffffffeu, (uint32_t)n,
+                        s->brick_nonempty[n], (size_t)g->gx * g->gy * g->gz) != FW_OK)
+                return FW_ERROR;
+        }
+    }
     return FW_OK;
 }
 
@@ -845,6 +811,7 @@ static fw_status_t vr_start(gp_t *gp)
                 return FW_ERROR;
         }
     }
+    s->tables_pending = s->g == 0 ? 0 : c->levels;
     s->probe.setup_cycles = fw_cycles(gp);
     return FW_OK;
 }
@@ -900,18 +867,36 @@ static fw_status_t on_levelk(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
 
 static fw_status_t on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
 {
-    if (m->args[1] == 0xffffffffu) {
-        /* octree broadcast from GP 0 */
-        if (alloc_shared(gp, s, true) != FW_OK)
+    if (m->args[1] == 0xffffffffu || m->args[1] == 0xfffffffeu) {
+        /* octree broadcast from GP 0: one grid height or one brick table */
+        if (!s->brick_nonempty[0] && alloc_shared(gp, s, true) != FW_OK)
             return FW_ERROR;
-        if (m->payload_bytes != octree_bytes(s))
-            return fw_fail(gp, "vr: octree message of %zu bytes, expected %zu", m->payload_bytes,
-                           octree_bytes(s));
-        octree_copy(s, (uint8_t *)(uintptr_t)m->payload, false);
+        void *dst;
+        size_t want;
+        if (m->args[1] == 0xfffffffeu) {
+            int n = (int)m->args[2];
+            if (n < 0 || n >= s->cfg.levels)
+                return fw_fail(gp, "vr: brick table for level %d", n);
+            const vr_level_geom_t *g = &s->geom[n];
+            dst = s->brick_nonempty[n];
+            want = (size_t)g->gx * g->gy * g->gz;
+            s->tables_pending--;
+        } else {
+            int n = (int)(m->args[2] >> 8), k = (int)((m->args[2] >> 7) & 1), hh = (int)(m->args[2] & 127);
+            octgrid_t *gr = k ? &s->exact[n] : &s->grid[n];
+            if (n >= s->cfg.levels || hh >= gr->heights)
+                return fw_fail(gp, "vr: octree grid message (%d, %d, %d)", n, k, hh);
+            dst = gr->occ[hh].w;
+            want = bits_words(gr->occ[hh].nx, gr->occ[hh].ny, gr->occ[hh].nz) * 8;
+        }
+        if (m->payload_bytes != want)
+            return fw_fail(gp, "vr: octree message of %zu bytes, expected %zu", m->payload_bytes, want);
+        memcpy(dst, m->payload, want);
         fw_ops_t ops = {0};
-        ops.loads = ops.stores = m->payload_bytes / 8;
+        ops.ext_bytes = want;
         fw_charge(gp, &ops);
-        s->have_octree = true;
+        if (s->tables_pending == 0)
+            s->have_octree = true;
         return FW_OK;
     }
     int n = (int)m->args[1], z0 = (int)m->args[2];
@@ -1263,8 +1248,13 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         return FW_ERROR;
     uint64_t cap = fw_machine_info(gp)->local_mem_bytes, used = fw_mem_used_bytes(gp);
     uint64_t reserve = 256u * 1024u;
-    uint64_t avail = cap > used + reserve ? cap - used - reserve : 0;
-    uint64_t per = VR_BRICK_VOXELS * 4u * (uint64_t)((c->lighting == VR_LIGHT_SPECULAR && c->split == VR_SPLIT_GP) ? 2 : 1);
+    uint64_t avail;
+    /* GP split: a brick's N block arrives right behind its A block (same
+     * renderer FIFO) and is freed once shaded, so one N is live at a time. */
+    uint64_t per = VR_BRICK_VOXELS * 4u;
+    if (c->lighting == VR_LIGHT_SPECULAR && c->split == VR_SPLIT_GP)
+        reserve += VR_BRICK_VOXELS * 4u;
+    avail = cap > used + reserve ? cap - used - reserve : 0;
     /* Smallest power-of-two number of column passes whose largest pass
      * footprint fits (each footprint computation is charged). */
     while ((uint64_t)n_all * per > avail) {

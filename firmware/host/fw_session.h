@@ -34,7 +34,8 @@ const char *fw_phase_name(fw_phase_t p);
 typedef struct {
     double frame_time_s;
     double phase_s[FW_PHASE_COUNT];   /* critical-path split: sums to frame_time_s */
-    int critical_gp;
+    int critical_gp;                  /* the GP that finished last */
+    int critical_path_gp;             /* whose prep/fetch/cast the path runs through */
     const char *bottleneck;           /* the largest phase */
     uint64_t rays, samples, samples_skipped;
     uint64_t bricks_fetched, bytes_fetched, pp_stream_words;
