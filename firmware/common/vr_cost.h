@@ -18,12 +18,12 @@ typedef struct {
 } vr_cost_row_t;
 
 /* Trilinear lookup of 4 components from 8 byte-packed voxels of bricks:
- * level coordinates (3 fadd, 3 fmul: (p+0.5)*2^-n - 0.5), floor and
+ * level coordinates (6 fadd, 3 fmul: (p+0.5)*2^-n - 0.5), floor and
  * weights (3 floor as int ops, 3 fadd), clamps (12 int ops, 12 branches),
  * brick/offset for the 2 x 3 axis indices (12 int div/mod as int ops, 6 mul),
  * 8 brick pointer loads + 8 word loads, 32 LUT loads, 7 lerps x 4
  * components = 28 x (2 fadd + 1 fmul). */
-static const vr_cost_row_t VR_COST_TRILERP = {3 + 3 + 56, 3 + 28, 0, 0, 8 + 8 + 32, 0,
+static const vr_cost_row_t VR_COST_TRILERP = {6 + 3 + 56, 3 + 28, 0, 0, 8 + 8 + 32, 0,
                                               3 + 12 + 12 + 6 + 8, 12};
 /* Blend of two levels: 4 x (2 fadd + 1 fmul), 1 compare. */
 static const vr_cost_row_t VR_COST_LEVEL_BLEND = {8 + 1, 4, 0, 0, 0, 0, 2, 1};

@@ -423,13 +423,19 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
     }
     /* Whole-slab float storage for levels 1..K (small), quantised A/N for
      * the same; level 0 lives one strip at a time. */
+    /* Strip height: one level-0 brick row (32 rows), or the whole slice when
+     * a brick holds every row (small volumes); a multiple of 2^K so that every
+     * level's strip rows are complete. */
+    int unit = 1 << K;
+    int rows = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
+                                              : VR_STRIP_ROWS;
     float *lvl[VR_MAX_LEVELS] = {0};
     int lrow0[VR_MAX_LEVELS] = {0}, lrows[VR_MAX_LEVELS] = {0};
     uint8_t *occb[VR_MAX_LEVELS] = {0};
     for (int n = 1; n <= K; n++) {
         size_t cnt = level_voxels(&s->geom[n], ts[n] > 0 ? ts[n] : 1);
         /* Levels below K: one strip's rows; level K: the whole slab (it goes to GP 0). */
-        lrows[n] = n < K ? (VR_STRIP_ROWS >> n) : s->geom[n].ny;
+        lrows[n] = n < K ? ((rows + (1 << n) - 1) >> n) : s->geom[n].ny;
         if (lrows[n] < 1)
             lrows[n] = 1;
         size_t lcnt = (size_t)s->geom[n].nx * lrows[n] * (ts[n] > 0 ? ts[n] : 1);
@@ -443,7 +449,6 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
             return FW_ERROR;
     }
     const vr_level_geom_t *g0 = &s->geom[0];
-    int rows = VR_STRIP_ROWS;
     size_t strip_vox = (size_t)g0->nx * rows * (ts[0] > 0 ? ts[0] : 1);
     float *strip = fw_alloc(gp, strip_vox * (size_t)s->stride * sizeof(float));
     uint32_t *sqa = fw_alloc(gp, strip_vox * 4), *sqn = s->stride == 8 ? fw_alloc(gp, strip_vox * 4) : NULL;

@@ -1,0 +1,274 @@
+/* test_fw_machine.c: the gaze-directed renderer on the emulated machine against render/ (image, rays, samples), conservation, memory limit, scaling, determinism. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "firmware/common/vr_gp.h"
+#include "firmware/host/fw_session.h"
+#include "harness.h"
+#include "render/quality.h"
+
+/* A small phantom, its preset and a view; 64x64 images keep a frame fast. */
+typedef struct {
+    volume_t v;
+    classify_tf_t tf;
+    shade_params_t shade;
+    render_settings_t rs;
+    pp5_params_t p;
+} fixture_t;
+
+static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
+{
+    memset(f, 0, sizeof *f);
+    REQUIRE(phantom_make("shepp-logan", 40, 40, 36, &f->v) == PP5_OK);
+    REQUIRE(classify_preset("shepp-logan", &f->tf) == PP5_OK);
+    shade_defaults(&f->shade);
+    f->shade.lighting = lighting;
+    if (lighting != SHADE_DIFFUSE_FIXED_LIGHT)
+        f->shade.specular = 0.5f;
+    render_settings_defaults(&f->rs);
+    f->rs.width = 64;
+    f->rs.height = 64;
+    f->rs.mode = mode;
+    f->rs.threads = 1;
+    f->rs.view.rot_x_deg = 20.0f;
+    f->rs.view.rot_y_deg = 30.0f;
+    pp5_params_default(&f->p);
+    f->p.n_gp = 4;
+    f->p.n_renderers = 4;
+}
+
+static double psnr(const image8_t *a, const image8_t *b)
+{
+    double se = 0;
+    size_t n = (size_t)a->width * a->height * 3;
+    for (size_t i = 0; i < n; i++) {
+        double d = (double)a->pixels[i] - (double)b->pixels[i];
+        se += d * d;
+    }
+    return se == 0 ? INFINITY : 10.0 * log10(255.0 * 255.0 / (se / (double)n));
+}
+
+static int max_diff(const image8_t *a, const image8_t *b)
+{
+    int m = 0;
+    size_t n = (size_t)a->width * a->height * 3;
+    for (size_t i = 0; i < n; i++) {
+        int d = abs((int)a->pixels[i] - (int)b->pixels[i]);
+        m = d > m ? d : m;
+    }
+    return m;
+}
+
+/* Runs the machine and both native references for a few gazes. */
+static void check_against_native(shade_case_t lighting, render_mode_t mode, int split)
+{
+    fixture_t f;
+    fixture(&f, lighting, mode);
+    fw_options_t o;
+    fw_options_default(&o);
+    o.split = split;
+    fw_session_t s;
+    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    REQUIRE_MSG(st == PP5_OK, "session: %s", pp5_error_text());
+    native_renderer_t exact, quant, flt;
+    REQUIRE(native_renderer_init(&exact, &f.v, &f.tf, &f.shade, 1) == PP5_OK);
+    REQUIRE(fw_reference_init(&quant, &f.v, &f.tf, &f.shade, &f.rs, true) == PP5_OK);
+    REQUIRE(fw_reference_init(&flt, &f.v, &f.tf, &f.shade, &f.rs, false) == PP5_OK);
+    const double gazes[3][2] = {{31.5, 31.5}, {10.0, 50.0}, {55.0, 8.0}};
+    for (int k = 0; k < (mode == RENDER_MODE_GAZE ? 3 : 1); k++) {
+        image8_t img = {0}, re = {0}, rq = {0}, rf = {0};
+        fw_frame_result_t r;
+        st = fw_session_frame(&s, gazes[k][0], gazes[k][1], &img, &r);
+        REQUIRE_MSG(st == PP5_OK, "frame: %s", pp5_error_text());
+        render_settings_t ns = f.rs;
+        ns.gaze_x = gazes[k][0];
+        ns.gaze_y = gazes[k][1];
+        render_stats_t se, sq, sf;
+        REQUIRE(native_renderer_frame(&exact, &ns, &re, &se) == PP5_OK);
+        REQUIRE(native_renderer_frame(&quant, &ns, &rq, &sq) == PP5_OK);
+        REQUIRE(native_renderer_frame(&flt, &ns, &rf, &sf) == PP5_OK);
+        /* Like for like (the machine's formats in the native renderer):
+         * same rays and samples, images equal to within float rounding. */
+        CHECK_EQ(r.rays, sq.rays);
+        CHECK_EQ(r.samples, sq.samples);
+        CHECK_MSG(max_diff(&img, &rq) <= 1, "max diff vs quantised native %d", max_diff(&img, &rq));
+        /* Against render/ itself: same rays; samples within 0.5 % (8-bit
+         * opacity moves early termination), and >= 45 dB against the native
+         * image with the same per-voxel shading (diffuse: render/ itself). */
+        CHECK_EQ(r.rays, se.rays);
+        CHECK_MSG(fabs((double)r.samples - (double)se.samples) <= 0.005 * (double)se.samples,
+                  "samples %llu vs native %llu", (unsigned long long)r.samples,
+                  (unsigned long long)se.samples);
+        const image8_t *ref = lighting == SHADE_DIFFUSE_FIXED_LIGHT ? &re : &rf;
+        double q = psnr(&img, ref);
+        CHECK_MSG(q >= 45.0, "PSNR %.2f dB against native (gaze %g,%g)", q, gazes[k][0], gazes[k][1]);
+        CHECK(r.frame_time_s > 0);
+        image8_free(&img);
+        image8_free(&re);
+        image8_free(&rq);
+        image8_free(&rf);
+    }
+    native_renderer_free(&exact);
+    native_renderer_free(&quant);
+    native_renderer_free(&flt);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
+TEST(fw_image_matches_native_diffuse_gaze) { check_against_native(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }
+TEST(fw_image_matches_native_diffuse_full) { check_against_native(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL, VR_SPLIT_PP); }
+TEST(fw_image_matches_native_specular_pp_gaze) { check_against_native(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }
+TEST(fw_image_matches_native_specular_gp_split_full) { check_against_native(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_FULL, VR_SPLIT_GP); }
+
+/* Both splits compute the same integer shading: identical images, and the
+ * PP split really runs shading streams on the renderers. */
+TEST(fw_split_pp_and_gp_give_identical_images)
+{
+    image8_t img[2] = {{0}, {0}};
+    fw_frame_result_t r[2];
+    for (int k = 0; k < 2; k++) {
+        fixture_t f;
+        fixture(&f, SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE);
+        fw_options_t o;
+        fw_options_default(&o);
+        o.split = k == 0 ? VR_SPLIT_PP : VR_SPLIT_GP;
+        fw_session_t s;
+        REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+        REQUIRE(fw_session_frame(&s, 20.0, 30.0, &img[k], &r[k]) == PP5_OK);
+        fw_session_free(&s);
+        volume_free(&f.v);
+    }
+    CHECK(memcmp(img[0].pixels, img[1].pixels, (size_t)64 * 64 * 3) == 0);
+    CHECK(r[0].rn_exec_cycles_max > 0);
+    CHECK_EQ(r[1].rn_exec_cycles_max, 0);
+    CHECK(r[0].pp_stream_words > 0);
+    image8_free(&img[0]);
+    image8_free(&img[1]);
+}
+
+/* Bytes sent equal bytes delivered, per class, once the machine is idle. */
+TEST(fw_ring_conservation_per_class)
+{
+    fixture_t f;
+    fixture(&f, SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE);
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    fw_frame_result_t r;
+    REQUIRE(fw_session_frame(&s, 31.5, 31.5, NULL, &r) == PP5_OK);
+    REQUIRE(fw_session_frame(&s, 5.0, 5.0, NULL, &r) == PP5_OK);
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++)
+        CHECK_EQ(s.m.ring.bytes_sent[k], s.m.ring.bytes_delivered[k]);
+    /* The frame's data-class bytes are the fetched bricks plus their headers:
+     * at least the payload the GPs report receiving. */
+    CHECK(r.ring_bytes[RING_CLASS_DATA] >= r.bytes_fetched);
+    CHECK(r.ring_bytes[RING_CLASS_PIXELS] >= (uint64_t)64 * 64 * 3);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
+/* A GP whose memory cannot hold its partition stops the run with a clear
+ * firmware error, never a wrong image. */
+TEST(fw_gp_memory_limit_is_a_firmware_error)
+{
+    fixture_t f;
+    fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL);
+    f.p.gp_local_mem_bytes = 200000;
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    if (st == PP5_OK) {
+        fw_frame_result_t r;
+        st = fw_session_frame(&s, 31.5, 31.5, NULL, &r);
+    }
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "memory") != NULL);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
+static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles)
+{
+    fixture_t f;
+    fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL);
+    f.p.n_gp = (uint32_t)n_gp;
+    f.p.ring_clock_hz = ring_hz;
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    fw_frame_result_t r;
+    REQUIRE(fw_session_frame(&s, 31.5, 31.5, NULL, &r) == PP5_OK);
+    *max_cast_cycles = 0;
+    for (unsigned g = 0; g < s.m.n_gp; g++) {
+        const vr_probe_t *p = vr_probe(s.m.gp[g].state);
+        if (p && p->cyc_cast > *max_cast_cycles)
+            *max_cast_cycles = p->cyc_cast;
+    }
+    fw_session_free(&s);
+    volume_free(&f.v);
+    return r.frame_time_s;
+}
+
+TEST(fw_scaling_sanity)
+{
+    uint64_t c_a, c_b, c_c;
+    double t_fast = frame_time(4, 20e6, &c_a);
+    double t_slow = frame_time(4, 10e6, &c_b);
+    /* Halving the ring bandwidth never makes the frame faster. */
+    CHECK_MSG(t_slow >= t_fast, "%g s at 10 MHz vs %g s at 20 MHz", t_slow, t_fast);
+    /* The same work: casting cycles do not depend on the ring. */
+    CHECK_EQ(c_a, c_b);
+    /* Doubling the GPs never makes the busiest GP's casting slower. */
+    double t8 = frame_time(8, 20e6, &c_c);
+    CHECK_MSG(c_c <= c_a, "max cast cycles %llu with 8 GPs vs %llu with 4",
+              (unsigned long long)c_c, (unsigned long long)c_a);
+    CHECK(t8 > 0);
+}
+
+TEST(fw_runs_are_deterministic)
+{
+    image8_t img[2] = {{0}, {0}};
+    fw_frame_result_t r[2];
+    uint64_t cycles[2] = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        fixture_t f;
+        fixture(&f, SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE);
+        fw_options_t o;
+        fw_options_default(&o);
+        fw_session_t s;
+        REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+        REQUIRE(fw_session_frame(&s, 12.0, 40.0, &img[k], &r[k]) == PP5_OK);
+        for (unsigned g = 0; g < s.m.n_gp; g++)
+            cycles[k] += s.m.gp[g].busy_cycles;
+        fw_session_free(&s);
+        volume_free(&f.v);
+    }
+    CHECK(memcmp(img[0].pixels, img[1].pixels, (size_t)64 * 64 * 3) == 0);
+    CHECK(r[0].frame_time_s == r[1].frame_time_s);
+    CHECK_EQ(cycles[0], cycles[1]);
+    CHECK_EQ(r[0].samples, r[1].samples);
+    image8_free(&img[0]);
+    image8_free(&img[1]);
+}
+
+/* A mip map bigger than the renderers' backing store is a clear error. */
+TEST(fw_backing_store_limit_is_reported)
+{
+    fixture_t f;
+    fixture(&f, SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_FULL);
+    f.p.n_renderers = 1;
+    volume_free(&f.v);
+    REQUIRE(phantom_make("shepp-logan", 128, 128, 100, &f.v) == PP5_OK);
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "backing-store") != NULL);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
