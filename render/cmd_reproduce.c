@@ -270,8 +270,15 @@ static int reproduce_table1(const reproduce_opts_t *o)
     return rc;
 }
 
+/* --- firmware hook: the projections scenario (firmware/host/fw_projections.c) --- */
+#include "firmware/host/fw_projections.h"
+static int reproduce_projections(const reproduce_opts_t *o) { return fw_reproduce_projections(o->threads); }
+/* --- end firmware hook --- */
+
 /* Add scenarios here: one row each. */
 static const reproduce_scenario_t scenarios[] = {
+    {"projections", "gaze paper's Pixel-Planes 5 predictions (§6-7) vs the emulated machine",
+     reproduce_projections},
     {"table1", "Levoy & Whitaker 1990 Table I: rays, 3D samples, time, gaze vs full",
      reproduce_table1},
 };
