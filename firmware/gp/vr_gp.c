@@ -69,6 +69,7 @@ typedef struct {
     uint8_t *need[VR_MAX_2D_LEVELS];
     int pass, n_passes;                   /* column passes (memory) */
     int tables_pending;                   /* brick tables still to come from GP 0 */
+    uint64_t t_pass_req;                  /* when this pass's requests were out */
     vr_shade_consts_t shade_consts;
     vr_probe_t probe;
 } vr_state_t;
@@ -1136,6 +1137,7 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     s->probe.rays = s->probe.samples = s->probe.skipped = 0;
     s->probe.bricks_fetched = s->probe.bytes_fetched = s->probe.fb_bytes = 0;
     s->probe.pp_stream_words = 0;
+    s->probe.wait_ps = s->probe.cast_ps = s->probe.passes = 0;
     s->probe.frame_done = 0;
     s->probe.t_start = fw_time_ps(gp);
     s->frame = (int)frame;
@@ -1409,6 +1411,7 @@ static fw_status_t request_pass(gp_t *gp, vr_state_t *s)
     }
     fw_free(gp, want);
     s->probe.bricks_fetched += n_want;
+    s->t_pass_req = fw_time_ps(gp);
     return start_cast_if_ready(gp, s);
 }
 
@@ -1655,6 +1658,8 @@ static fw_status_t cast_all(gp_t *gp, vr_state_t *s)
     s->probe.rays += rays;
     s->probe.samples += cc.samples;
     s->probe.skipped += cc.skipped;
+    s->probe.cast_ps += fw_time_ps(gp) - s->probe.t_data_done;
+    s->probe.passes = (uint64_t)s->n_passes;
     if (s->pass + 1 < s->n_passes) {
         /* Drop this pass's bricks and fetch the next column range's. */
         for (int i = 0; i < s->n_bricks; i++)
@@ -1701,6 +1706,7 @@ static fw_status_t start_cast_if_ready(gp_t *gp, vr_state_t *s)
     if (s->bricks_pending > 0 || s->cast_done)
         return FW_OK;
     s->probe.t_data_done = fw_time_ps(gp);
+    s->probe.wait_ps += s->probe.t_data_done - s->t_pass_req;
     return cast_all(gp, s);
 }
 

@@ -122,6 +122,7 @@ static void write_frame_json(json_writer_t *j, const fw_session_t *s, const fw_f
     json_kv_uint(j, "bricks_fetched", r->bricks_fetched);
     json_kv_uint(j, "brick_bytes_fetched", r->bytes_fetched);
     json_kv_uint(j, "pp_stream_words", r->pp_stream_words);
+    json_kv_uint(j, "column_passes_max", r->passes_max);
     json_kv_uint(j, "renderer_exec_cycles_max", r->rn_exec_cycles_max);
     json_key(j, "ring_bytes_by_class");
     json_begin_object(j);
@@ -205,10 +206,11 @@ static void print_frame(FILE *log, const fw_session_t *s, const fw_frame_result_
             r->critical_gp);
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(log, "  %-40s %9.3f ms\n", fw_phase_name((fw_phase_t)k), r->phase_s[k] * 1e3);
-    fprintf(log, "  rays %llu, 3D samples %llu (%llu skipped), bricks fetched %llu (%.1f MB)\n",
+    fprintf(log, "  rays %llu, 3D samples %llu (%llu skipped), bricks fetched %llu (%.1f MB), "
+            "up to %llu column passes per GP (local memory)\n",
             (unsigned long long)r->rays, (unsigned long long)r->samples,
             (unsigned long long)r->samples_skipped, (unsigned long long)r->bricks_fetched,
-            r->bytes_fetched / 1e6);
+            r->bytes_fetched / 1e6, (unsigned long long)r->passes_max);
     fprintf(log, "  ring bytes: command %llu, data %llu, pixels %llu, gp %llu, host %llu; "
             "utilisation %.1f %%\n",
             (unsigned long long)r->ring_bytes[RING_CLASS_COMMAND],

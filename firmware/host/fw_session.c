@@ -365,6 +365,8 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         r->samples_skipped += p->skipped;
         r->bricks_fetched += p->bricks_fetched;
         r->bytes_fetched += p->bytes_fetched;
+        if (p->passes > r->passes_max)
+            r->passes_max = p->passes;
         r->pp_stream_words += p->pp_stream_words;
         if (p->t_done >= crit_done) {
             crit_done = p->t_done;
@@ -408,22 +410,24 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
     r->critical_gp = crit;
     r->critical_path_gp = path;
     if (p && pc) {
-        double ts = ticks_to_s(p->t_start - t0), tp = ticks_to_s(p->t_prep_done - t0);
-        double td = ticks_to_s(p->t_data_done - t0), tc = ticks_to_s(p->t_cast_done - t0);
+        double ts = ticks_to_s(p->t_start - t0);
+        double tc = ticks_to_s(p->t_cast_done - t0);
         double tb = ticks_to_s(pc->t_boundary - t0), te = ticks_to_s(pc->t_done - t0);
+        double wait = ticks_to_s(p->wait_ps), cast = ticks_to_s(p->cast_ps);
+        /* prep: before the first requests, plus the footprints of later passes */
+        double prep = (tc - ts) - wait - cast;
         double recv = (double)(p->cyc_unpack + p->cyc_forward + p->cyc_shade) * gp_period;
-        double wait = td - tp;
         if (recv > wait)
             recv = wait;
         double pp = exec_max_s < wait - recv ? exec_max_s : wait - recv;
         if (pp < 0)
             pp = 0;
         r->phase_s[FW_PHASE_HOST_START] = ts;
-        r->phase_s[FW_PHASE_GP_PREP] = tp - ts;
+        r->phase_s[FW_PHASE_GP_PREP] = prep;
         r->phase_s[FW_PHASE_GP_RECEIVE] = recv;
         r->phase_s[FW_PHASE_PP_SHADE] = pp;
         r->phase_s[FW_PHASE_RING_FETCH] = wait - recv - pp;
-        r->phase_s[FW_PHASE_GP_CAST] = tc - td;
+        r->phase_s[FW_PHASE_GP_CAST] = cast;
         r->phase_s[FW_PHASE_GP_EXCHANGE] = tb - tc;
         r->phase_s[FW_PHASE_GP_RESAMPLE] = te - tb;
         r->phase_s[FW_PHASE_FB_TRANSFER] = T - te;

@@ -39,6 +39,7 @@ typedef struct {
     const char *bottleneck;           /* the largest phase */
     uint64_t rays, samples, samples_skipped;
     uint64_t bricks_fetched, bytes_fetched, pp_stream_words;
+    uint64_t passes_max;              /* column passes of the GP that needed most (memory) */
     uint64_t ring_bytes[RING_CLASS_COUNT];
     double ring_util[RING_CLASS_COUNT];   /* class bytes / (aggregate bandwidth x frame time) */
     double ring_util_total;
