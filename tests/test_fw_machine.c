@@ -272,3 +272,82 @@ TEST(fw_backing_store_limit_is_reported)
     fw_session_free(&s);
     volume_free(&f.v);
 }
+
+/* Progressive refinement (paper §7): the machine keeps its 2D mip map between
+ * frames like render/ does: per frame the same new rays, the same samples as
+ * the like-for-like reference, and full resolution reached on the same frame. */
+TEST(fw_progressive_refinement_matches_native)
+{
+    fixture_t f;
+    fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE);
+    f.rs.progressive = true;
+    f.rs.progressive_growth = 2.0;
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    native_renderer_t quant;
+    REQUIRE(fw_reference_init(&quant, &f.v, &f.tf, &f.shade, &f.rs, true) == PP5_OK);
+    render_settings_t ns = f.rs;
+    ns.gaze_x = 20.0;
+    ns.gaze_y = 25.0;
+    bool machine_full = false, native_full = false;
+    uint64_t total_rays = 0;
+    for (int k = 0; k < 6; k++) {
+        image8_t img = {0}, rq = {0};
+        fw_frame_result_t r;
+        render_stats_t sq;
+        REQUIRE(fw_session_frame(&s, ns.gaze_x, ns.gaze_y, &img, &r) == PP5_OK);
+        REQUIRE(native_renderer_frame(&quant, &ns, &rq, &sq) == PP5_OK);
+        CHECK_EQ(r.rays, sq.rays);
+        CHECK_EQ(r.samples, sq.samples);
+        CHECK_MSG(max_diff(&img, &rq) <= 1, "frame %d: max diff %d", k, max_diff(&img, &rq));
+        CHECK_EQ(r.full_resolution_everywhere, sq.full_resolution_everywhere);
+        machine_full = r.full_resolution_everywhere;
+        native_full = sq.full_resolution_everywhere;
+        total_rays += r.rays;
+        image8_free(&img);
+        image8_free(&rq);
+    }
+    CHECK(machine_full && native_full);
+    /* every pixel's level-0 ray was cast exactly once over the sequence */
+    CHECK(total_rays >= (uint64_t)64 * 64);
+    native_renderer_free(&quant);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
+/* The gaze replay's callback: one frame per gaze point, setup reused. */
+TEST(fw_replay_callback_runs_frames)
+{
+    fixture_t f;
+    fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE);
+    fw_options_t o;
+    fw_options_default(&o);
+    fw_session_t s;
+    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    double setup = s.setup_s;
+    native_renderer_t nr;
+    REQUIRE(native_renderer_init(&nr, &f.v, &f.tf, &f.shade, 1) == PP5_OK);
+    for (int k = 0; k < 3; k++) {
+        fw_replay_cost_t c;
+        memset(&c, 0, sizeof c);
+        double gx = 10.0 + 20.0 * k, gy = 30.0;
+        REQUIRE(fw_replay_frame_cost(&s, gx, gy, &c) == PP5_OK);
+        render_settings_t ns = f.rs;
+        ns.gaze_x = gx;
+        ns.gaze_y = gy;
+        image8_t img = {0};
+        render_stats_t st;
+        REQUIRE(native_renderer_frame(&nr, &ns, &img, &st) == PP5_OK);
+        CHECK_EQ(c.rays, st.rays);
+        CHECK(c.frame_time_s > 0);
+        CHECK(c.ring_bytes > 0);
+        image8_free(&img);
+    }
+    CHECK(s.setup_s == setup);   /* no second setup */
+    CHECK_EQ(s.frames, 3);
+    native_renderer_free(&nr);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}

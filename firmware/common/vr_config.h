@@ -66,7 +66,8 @@ typedef struct {
 /* Per frame: the view (camera basis computed by the host from the user's
  * rotation, raycast.h camera_t), the gaze point and the mode. */
 typedef struct {
-    int32_t frame, mode, projection, progressive_keep;
+    int32_t frame, mode, projection;
+    int32_t progressive_keep;           /* bit 0: keep the 2D mip map after; bit 1: reuse the kept one */
     double gaze_x, gaze_y, gaze_scale;
     float right[3], down[3], forward[3], centre[3], eye[3], box_hi[3];
     float pixel_size, eye_distance, radius;

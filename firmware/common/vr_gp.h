@@ -23,6 +23,7 @@ typedef struct {
     uint64_t setup_cycles, setup_bricks_written, setup_voxels_built;
     uint64_t n_bricks_total, n_bricks_nonempty, max_slots_used;
     int frame_done;
+    int all_level0;                   /* every own pixel at 2D level 0 (progressive) */
 } vr_probe_t;
 
 extern const fw_program_t vr_program;

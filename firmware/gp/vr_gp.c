@@ -67,6 +67,7 @@ typedef struct {
     int tw[VR_MAX_2D_LEVELS], th[VR_MAX_2D_LEVELS];
     float *texel[VR_MAX_2D_LEVELS];       /* rows jlo..jhi+1 (+1: the next GP's first row) */
     uint8_t *need[VR_MAX_2D_LEVELS];
+    uint8_t *castf[VR_MAX_2D_LEVELS];     /* the paper's flag F: texel's ray cast (kept when progressive) */
     int pass, n_passes;                   /* column passes (memory) */
     int tables_pending;                   /* brick tables still to come from GP 0 */
     uint64_t t_pass_req;                  /* when this pass's requests were out */
@@ -931,7 +932,7 @@ static fw_status_t on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
 
 /* ---- frame --------------------------------------------------------------- */
 
-static void frame_free(gp_t *gp, vr_state_t *s)
+static void frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
 {
     for (int i = 0; i < s->n_bricks; i++) {
         if (s->cache[i]) {
@@ -943,13 +944,18 @@ static void frame_free(gp_t *gp, vr_state_t *s)
             s->cache_n[i] = NULL;
         }
     }
+    if (keep_view)
+        return;
     for (int m = 0; m < VR_MAX_2D_LEVELS; m++) {
         if (s->texel[m])
             fw_free(gp, s->texel[m]);
         if (s->need[m])
             fw_free(gp, s->need[m]);
+        if (s->castf[m])
+            fw_free(gp, s->castf[m]);
         s->texel[m] = NULL;
         s->need[m] = NULL;
+        s->castf[m] = NULL;
     }
     if (s->level)
         fw_free(gp, s->level);
@@ -1130,7 +1136,11 @@ static fw_status_t request_pass(gp_t *gp, vr_state_t *s);
 static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
 {
     const vr_config_t *c = &s->cfg;
-    frame_free(gp, s);
+    /* Progressive refinement (paper §7): keep the 2D mip map, its flags and
+     * each pixel's finest level while the bands stay the same. */
+    bool reuse = (s->fr.progressive_keep & 2) && s->level &&
+                 s->y0 == s->fr.band_y0[s->g] && s->y1 == s->fr.band_y0[s->g + 1];
+    frame_free(gp, s, reuse);
     memset(&s->probe.t_start, 0, sizeof(uint64_t) * 6);
     s->probe.cyc_prep = s->probe.cyc_exec_build = s->probe.cyc_forward = s->probe.cyc_unpack = 0;
     s->probe.cyc_shade = s->probe.cyc_cast = s->probe.cyc_pixels = 0;
@@ -1178,14 +1188,19 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         s->probe.t_prep_done = s->probe.t_data_done = s->probe.t_cast_done = fw_time_ps(gp);
         s->probe.t_boundary = s->probe.t_done = fw_time_ps(gp);
         s->probe.frame_done = 1;
+        s->probe.all_level0 = 1;
         return FW_OK;
     }
     int span = 1 << s->maxm;
     s->ly0 = s->y0 - span < 0 ? 0 : s->y0 - span;
     s->ly1 = s->y1 + span > H ? H : s->y1 + span;
-    s->level = fw_alloc(gp, (size_t)(s->ly1 - s->ly0) * W * sizeof(float));
-    if (!s->level)
-        return FW_ERROR;
+    if (!reuse) {
+        s->level = fw_alloc(gp, (size_t)(s->ly1 - s->ly0) * W * sizeof(float));
+        if (!s->level)
+            return FW_ERROR;
+        for (size_t i = 0; i < (size_t)(s->ly1 - s->ly0) * W; i++)
+            s->level[i] = INFINITY;
+    }
     uint64_t n_level = 0, n_trans = 0;
     for (int y = s->ly0; y < s->ly1; y++) {
         float *row = s->level + (size_t)(y - s->ly0) * W;
@@ -1197,7 +1212,8 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
                 level = vr_gaze_level(c, sqrt(dx * dx + dy * dy) / s->fr.gaze_scale, &tr);
                 n_trans += (uint64_t)tr;
             }
-            row[x] = level;
+            if (level < row[x])
+                row[x] = level;    /* finest level so far (render/: level_best) */
         }
         n_level += (uint64_t)W;
     }
@@ -1212,9 +1228,14 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         s->jlo[m] = (s->y0 + (1 << m) - 1) >> m;
         s->jhi[m] = last ? s->th[m] - 1 : ((s->y1 + (1 << m) - 1) >> m) - 1;
         int rows = s->jhi[m] - s->jlo[m] + 2;
+        if (reuse) {
+            memset(s->need[m], 0, (size_t)rows * s->tw[m]);
+            continue;
+        }
         s->texel[m] = fw_alloc(gp, (size_t)rows * s->tw[m] * 3 * sizeof(float));
         s->need[m] = fw_alloc(gp, (size_t)rows * s->tw[m]);
-        if (!s->texel[m] || !s->need[m])
+        s->castf[m] = fw_alloc(gp, (size_t)rows * s->tw[m]);
+        if (!s->texel[m] || !s->need[m] || !s->castf[m])
             return FW_ERROR;
     }
     uint64_t n_mark = 0;
@@ -1309,8 +1330,9 @@ static fw_status_t footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_
         rect[m][1] = rect[m][3] = -INFINITY;
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++) {
             const uint8_t *nd = s->need[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
+            const uint8_t *cf = s->castf[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
             for (int i = 0; i < s->tw[m]; i++) {
-                if (!nd[i])
+                if (!nd[i] || cf[i])
                     continue;
                 float px = (float)(i << m) + 0.5f, py = (float)(j << m) + 0.5f;
                 if (px < px0 || px >= px1)
@@ -1634,11 +1656,13 @@ static fw_status_t cast_all(gp_t *gp, vr_state_t *s)
     for (int m = 0; m < s->levels2d; m++) {
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++) {
             const uint8_t *nd = s->need[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
+            uint8_t *cf = s->castf[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
             float *tx = s->texel[m] + (size_t)(j - s->jlo[m]) * s->tw[m] * 3;
             for (int i = 0; i < s->tw[m]; i++) {
                 float px = (float)(i << m) + 0.5f;
-                if (!nd[i] || px < px0 || px >= px1)
+                if (!nd[i] || cf[i] || px < px0 || px >= px1)
                     continue;
+                cf[i] = 1;
                 trace(s, px, (float)(j << m) + 0.5f, m, tx + 3 * i, &cc);
                 rays++;
             }
@@ -1786,8 +1810,17 @@ static fw_status_t reconstruct_if_ready(gp_t *gp, vr_state_t *s)
     s->probe.cyc_pixels += fw_cycles(gp) - c0;
     s->probe.t_done = fw_time_ps(gp);
     s->probe.frame_done = 1;
-    /* Free the frame's brick cache now (memory is per frame). */
-    frame_free(gp, s);
+    /* Free the frame's brick cache now (memory is per frame); keep the 2D
+     * mip map when the host runs a progressive sequence. */
+    int all0 = 1;
+    for (int y = s->y0; y < s->y1 && all0; y++)
+        for (int x = 0; x < W; x++)
+            if (s->level[(size_t)(y - s->ly0) * W + x] > 0.0f) {
+                all0 = 0;
+                break;
+            }
+    s->probe.all_level0 = all0;
+    frame_free(gp, s, (s->fr.progressive_keep & 1) != 0);
     return FW_OK;
 }
 

@@ -163,9 +163,6 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
     if (st != PP5_OK)
         return st;
     s->cfg.split = o->split;
-    if (rs->mode == RENDER_MODE_GAZE && rs->progressive)
-        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: progressive refinement is not "
-                        "implemented on the machine");
     st = machine_init(&s->m, p);
     if (st != PP5_OK)
         return st;
@@ -288,8 +285,17 @@ static void fill_frame(const fw_session_t *s, double gx, double gy, vr_frame_t *
     f->pixel_size = cam.pixel_size;
     f->eye_distance = cam.eye_distance;
     f->radius = cam.radius;
-    fw_bands_balanced(&s->gaze, s->rs.mode == RENDER_MODE_GAZE, gx, gy, s->rs.width,
-                      s->rs.height, (int)s->m.n_gp, s->cfg.levels2d, f->band_y0);
+    if (s->rs.progressive) {
+        /* Progressive refinement keeps each GP's texel rows between frames,
+         * so the bands stay fixed (equal) for the whole sequence. */
+        fw_bands(s->rs.height, (int)s->m.n_gp, s->cfg.levels2d, f->band_y0);
+        f->progressive_keep = 1 | (s->prog_index > 0 ? 2 : 0);
+        double growth = s->rs.progressive_growth > 1.0 ? s->rs.progressive_growth : 1.0;
+        f->gaze_scale = pow(growth, (double)s->prog_index);
+    } else {
+        fw_bands_balanced(&s->gaze, s->rs.mode == RENDER_MODE_GAZE, gx, gy, s->rs.width,
+                          s->rs.height, (int)s->m.n_gp, s->cfg.levels2d, f->band_y0);
+    }
 }
 
 pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *img,
@@ -338,6 +344,7 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: frame stopped (%s)", sched_stop_name(stop));
     pp5_tick_t t1 = m->sched.now;
     s->frames++;
+    s->prog_index++;
     if (st != PP5_OK) {
         free(gp_busy0);
         free(rn_exec0);
@@ -355,6 +362,7 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
     double gp_period = 1.0 / s->params.gp_clock_hz;
     int crit = 0;
     uint64_t crit_done = 0;
+    bool all0 = true;
     double gsum = 0, gmax = 0;
     for (unsigned g = 0; g < m->n_gp; g++) {
         const vr_probe_t *p = vr_probe(m->gp[g].state);
@@ -365,6 +373,8 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         r->samples_skipped += p->skipped;
         r->bricks_fetched += p->bricks_fetched;
         r->bytes_fetched += p->bytes_fetched;
+        if (!p->all_level0)
+            all0 = false;
         if (p->passes > r->passes_max)
             r->passes_max = p->passes;
         r->pp_stream_words += p->pp_stream_words;
@@ -376,6 +386,7 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         gsum += u;
         gmax = u > gmax ? u : gmax;
     }
+    r->full_resolution_everywhere = all0;
     r->gp_util_mean = m->n_gp ? gsum / m->n_gp : 0;
     r->gp_util_max = gmax;
     double rsum = 0, rmax = 0, exec_max_s = 0;

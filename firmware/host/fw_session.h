@@ -39,6 +39,7 @@ typedef struct {
     const char *bottleneck;           /* the largest phase */
     uint64_t rays, samples, samples_skipped;
     uint64_t bricks_fetched, bytes_fetched, pp_stream_words;
+    bool full_resolution_everywhere;  /* every pixel at 2D level 0 (progressive) */
     uint64_t passes_max;              /* column passes of the GP that needed most (memory) */
     uint64_t ring_bytes[RING_CLASS_COUNT];
     double ring_util[RING_CLASS_COUNT];   /* class bytes / (aggregate bandwidth x frame time) */
@@ -65,6 +66,7 @@ typedef struct {
     double setup_s;
     uint64_t setup_ring_bytes;
     unsigned frames;
+    unsigned prog_index;              /* frames of the current progressive sequence */
     fw_frame_result_t last;
     int32_t last_bands[VR_MAX_GPS + 1];
 } fw_session_t;
