@@ -686,7 +686,7 @@ static fw_status_t alloc_shared(gp_t *gp, vr_state_t *s, bool with_grids)
         if (!with_grids)
             continue;
         octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
-        for (int k = 0; k < 2; k++) {
+        for (int k = s->cfg.perspective ? 0 : 1; k < 2; k++) {
             int nx = g->nx, ny = g->ny, nz = g->nz;
             gs[k]->heights = 0;
             for (int h = 0; h < VR_MAX_LEVELS; h++) {
@@ -712,7 +712,10 @@ static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
     if (alloc_shared(gp, s, false) != FW_OK)
         return FW_ERROR;
     for (int n = 0; n < s->cfg.levels; n++) {
-        if (!grid_build(gp, &s->grid[n], &s->occ[n], 2, 3, &ops) ||
+        /* The blended-level grids serve perspective views only: a parallel
+         * view samples integer 3D levels (raycast.h), which read the exact
+         * grids.  Not building them saves about 1 MB per GP at 256^2 x 109. */
+        if ((s->cfg.perspective && !grid_build(gp, &s->grid[n], &s->occ[n], 2, 3, &ops)) ||
             !grid_build(gp, &s->exact[n], &s->occ[n], 0, 1, &ops))
             return FW_ERROR;
     }
@@ -728,7 +731,7 @@ static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
     for (int h = 1; h < s->n_gp; h++) {
         for (int n = 0; n < s->cfg.levels; n++) {
             octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
-            for (int k = 0; k < 2; k++)
+            for (int k = s->cfg.perspective ? 0 : 1; k < 2; k++)
                 for (int hh = 0; hh < gs[k]->heights; hh++) {
                     const bits_t *b = &gs[k]->occ[hh];
                     if (send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xffffffffu,
@@ -1155,6 +1158,8 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     s->boundary_ok = false;
     if (!s->have_octree)
         return fw_fail(gp, "vr: frame started before the mip map was distributed");
+    if ((s->fr.projection != 0) != (c->perspective != 0))
+        return fw_fail(gp, "vr: the projection is fixed per sequence (octree grids)");
     if (c->lighting == VR_LIGHT_SPECULAR) {
         float view[3] = {-s->fr.forward[0], -s->fr.forward[1], -s->fr.forward[2]}, half[3];
         vr_half_vector(c->light_dir, view, half);

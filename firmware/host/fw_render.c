@@ -243,11 +243,17 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
         rs.gaze_x = 0.5 * (rs.width - 1);
         rs.gaze_y = 0.5 * (rs.height - 1);
     }
-    if (c->progressive_frames > 0 || c->compare || c->levels_prefix || c->fig5_png) {
+    if (c->compare || c->levels_prefix || c->fig5_png) {
         scene_free(&sc);
-        return pp5_fail(PP5_E_UNSUPPORTED, "--machine does not support --progressive, --compare, "
+        return pp5_fail(PP5_E_UNSUPPORTED, "--machine does not support --compare, "
                         "--mip-levels-out or --fig5 (use the native renderer for those)");
     }
+    fw_render_opts_t oo = *o;
+    if (c->progressive_frames > 0) {
+        rs.progressive = true;
+        oo.frames = c->progressive_frames;
+    }
+    o = &oo;
     pp5_params_t p;
     st = pp5_params_build(&o->params, &p);
     if (st != PP5_OK) {
@@ -279,13 +285,16 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
     memset(&r, 0, sizeof r);
     double sum_t = 0;
     for (int f = 0; st == PP5_OK && f < o->frames; f++) {
-        /* Frames after the first move the gaze along a horizontal line. */
-        double gx = rs.gaze_x + (o->frames > 1 ? (rs.width * 0.5) * ((double)f / (o->frames - 1) - 0.5) : 0);
+        /* Frames after the first move the gaze along a horizontal line
+         * (progressive: the gaze stays put and the sweet spot grows). */
+        double gx = rs.gaze_x + (o->frames > 1 && !rs.progressive
+                                     ? (rs.width * 0.5) * ((double)f / (o->frames - 1) - 0.5) : 0);
         image8_free(&img);
         st = fw_session_frame(&s, gx, rs.gaze_y, &img, &r);
         if (st == PP5_OK && o->frames > 1)
-            fprintf(log, "frame %d gaze (%.1f, %.1f): %.3f ms, %llu rays\n", f, gx, rs.gaze_y,
-                    r.frame_time_s * 1e3, (unsigned long long)r.rays);
+            fprintf(log, "frame %d gaze (%.1f, %.1f): %.3f ms, %llu rays%s\n", f, gx, rs.gaze_y,
+                    r.frame_time_s * 1e3, (unsigned long long)r.rays,
+                    r.full_resolution_everywhere ? " (full resolution everywhere)" : "");
         sum_t += r.frame_time_s;
     }
     if (st == PP5_OK) {
@@ -293,21 +302,29 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
         if (o->frames > 1)
             fprintf(log, "mean frame time over %d frames: %.3f ms\n", o->frames, 1e3 * sum_t / o->frames);
         /* Compare with the native renderer on the same inputs (last gaze). */
-        double gx = rs.gaze_x + (o->frames > 1 ? rs.width * 0.25 : 0);
+        double gx = rs.gaze_x + (o->frames > 1 && !rs.progressive ? rs.width * 0.25 : 0);
         render_settings_t ns = rs;
         ns.gaze_x = gx;
+        /* Compared with render/ on the same frame (progressive: the same sequence). */
+        int nframes = rs.progressive ? o->frames : 1;
         native_renderer_t nr;
         image8_t ref = {0}, ref_q = {0};
         render_stats_t ns1, ns2;
         st = native_renderer_init(&nr, &sc.volume, &c->tf, &c->shade, rs.threads);
         if (st == PP5_OK) {
-            st = native_renderer_frame(&nr, &ns, &ref, &ns1);
+            for (int f = 0; st == PP5_OK && f < nframes; f++) {
+                image8_free(&ref);
+                st = native_renderer_frame(&nr, &ns, &ref, &ns1);
+            }
             native_renderer_free(&nr);
         }
         if (st == PP5_OK)
             st = fw_reference_init(&nr, &sc.volume, &c->tf, &c->shade, &rs, true);
         if (st == PP5_OK) {
-            st = native_renderer_frame(&nr, &ns, &ref_q, &ns2);
+            for (int f = 0; st == PP5_OK && f < nframes; f++) {
+                image8_free(&ref_q);
+                st = native_renderer_frame(&nr, &ns, &ref_q, &ns2);
+            }
             native_renderer_free(&nr);
         }
         quality_t q1, q2;
@@ -331,7 +348,10 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
             quality_t q3, q4;
             st = fw_reference_init(&nr, &sc.volume, &c->tf, &c->shade, &rs, false);
             if (st == PP5_OK) {
-                st = native_renderer_frame(&nr, &ns, &ref_f, &ns3);
+                for (int f = 0; st == PP5_OK && f < nframes; f++) {
+                    image8_free(&ref_f);
+                    st = native_renderer_frame(&nr, &ns, &ref_f, &ns3);
+                }
                 native_renderer_free(&nr);
             }
             if (st == PP5_OK)

@@ -135,6 +135,7 @@ static pp5_status_t make_config(fw_session_t *s, const volume_t *v, const classi
     c->sample_step = rs->view.sample_step;
     c->early_termination = rs->view.early_termination;
     c->use_octree = rs->view.use_octree;
+    c->perspective = rs->view.projection == PROJECTION_PERSPECTIVE;
     c->g_inches_per_px = s->gaze.inches_per_px;
     c->g_view_distance_in = s->gaze.display.view_distance_in;
     c->g_e_full_deg = s->gaze.e_full_deg;
