@@ -61,10 +61,12 @@ static int max_diff(const image8_t *a, const image8_t *b)
 }
 
 /* Runs the machine and both native references for a few gazes. */
-static void check_against_native(shade_case_t lighting, render_mode_t mode, int split)
+static void check_against_native_view(shade_case_t lighting, render_mode_t mode, int split,
+                                      projection_t proj)
 {
     fixture_t f;
     fixture(&f, lighting, mode);
+    f.rs.view.projection = proj;
     fw_options_t o;
     fw_options_default(&o);
     o.split = split;
@@ -114,6 +116,17 @@ static void check_against_native(shade_case_t lighting, render_mode_t mode, int 
     native_renderer_free(&flt);
     fw_session_free(&s);
     volume_free(&f.v);
+}
+
+static void check_against_native(shade_case_t lighting, render_mode_t mode, int split)
+{
+    check_against_native_view(lighting, mode, split, PROJECTION_PARALLEL);
+}
+
+TEST(fw_image_matches_native_perspective_gaze)
+{
+    check_against_native_view(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP,
+                              PROJECTION_PERSPECTIVE);
 }
 
 TEST(fw_image_matches_native_diffuse_gaze) { check_against_native(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }

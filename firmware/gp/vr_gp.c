@@ -1366,8 +1366,13 @@ static fw_status_t footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_
         float base3d = log2f(c->sample_step * (float)(1 << m)) - lstep;
         int n_lo = (int)floorf(base3d), n_hi = n_lo;
         if (s->fr.projection != 0) {
-            n_lo -= 2;
-            n_hi += 2;
+            /* Perspective: spacing t * base / eye_distance for t within the
+             * bounding sphere, so levels floor(L(t_near)) .. ceil(L(t_far)). */
+            float base = c->sample_step * (float)(1 << m);
+            float ed = s->fr.eye_distance, rad = s->fr.radius + 1.0f;
+            float t_near = ed - rad > 1e-3f ? ed - rad : 1e-3f, t_far = ed + rad;
+            n_lo = (int)floorf(log2f(t_near * base / ed) - lstep);
+            n_hi = (int)floorf(log2f(t_far * base / ed) - lstep) + 1;
         }
         for (int n = n_lo; n <= n_hi; n++) {
             int nn = n < 0 ? 0 : (n >= c->levels ? c->levels - 1 : n);
