@@ -57,6 +57,7 @@ typedef struct {
     float sample_step, early_termination;
     int32_t use_octree;
     int32_t perspective;                /* projection of the sequence (selects the octree grids) */
+    int32_t max_pass_bricks;            /* cap on bricks per pass (0: local memory decides) */
     /* Gaze model constants (render/gaze2d.h gaze_model_t), from the host. */
     double g_inches_per_px, g_view_distance_in, g_e_full_deg, g_e_edge_deg, g_sigma_deg,
         g_rho_min, g_r_zero_px, g_r_max_px;

@@ -68,7 +68,13 @@ typedef struct {
     float *texel[VR_MAX_2D_LEVELS];       /* rows jlo..jhi+1 (+1: the next GP's first row) */
     uint8_t *need[VR_MAX_2D_LEVELS];
     uint8_t *castf[VR_MAX_2D_LEVELS];     /* the paper's flag F: texel's ray cast (kept when progressive) */
-    int pass, n_passes;                   /* column passes (memory) */
+    int pass, n_passes;                   /* passes = column ranges x depth segments (memory) */
+    int n_cols, n_segs;                   /* pass q: columns q / n_segs, depth segment q % n_segs */
+    float seg_t0, seg_len;                /* depth (ray parameter t) covered by the segments */
+    /* Per own texel: a ray resumed segment by segment (0 new, 1 started, 2 done). */
+    uint8_t *ray_state[VR_MAX_2D_LEVELS];
+    float *ray_a[VR_MAX_2D_LEVELS], *ray_t[VR_MAX_2D_LEVELS];
+    int32_t *ray_k[VR_MAX_2D_LEVELS];
     int tables_pending;                   /* brick tables still to come from GP 0 */
     uint64_t t_pass_req;                  /* when this pass's requests were out */
     vr_shade_consts_t shade_consts;
@@ -947,6 +953,19 @@ static void frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
             s->cache_n[i] = NULL;
         }
     }
+    for (int m = 0; m < VR_MAX_2D_LEVELS; m++) {
+        if (s->ray_state[m])
+            fw_free(gp, s->ray_state[m]);
+        if (s->ray_a[m])
+            fw_free(gp, s->ray_a[m]);
+        if (s->ray_t[m])
+            fw_free(gp, s->ray_t[m]);
+        if (s->ray_k[m])
+            fw_free(gp, s->ray_k[m]);
+        s->ray_state[m] = NULL;
+        s->ray_a[m] = s->ray_t[m] = NULL;
+        s->ray_k[m] = NULL;
+    }
     if (keep_view)
         return;
     for (int m = 0; m < VR_MAX_2D_LEVELS; m++) {
@@ -1103,7 +1122,7 @@ static void project(const vr_state_t *s, const float P[3], float *px, float *py)
 /* Does brick (n, bx, by, bz), padded by one level-n voxel, project onto the
  * rectangle [x0, x1] x [y0, y1] of image points? */
 static bool brick_hits(const vr_state_t *s, int n, int bx, int by, int bz, const float rect[4],
-                       fw_ops_t *ops)
+                       const float tseg[2], fw_ops_t *ops)
 {
     const vr_level_geom_t *g = &s->geom[n];
     float sc = (float)(1 << n);
@@ -1116,10 +1135,26 @@ static bool brick_hits(const vr_state_t *s, int n, int bx, int by, int bz, const
         phi[a] = (((float)hi[a] + 0.5f) * sc - 0.5f + sc + 1.0f) * s->cfg.spacing[a];
     }
     float mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
+    float tmin = INFINITY, tmax = -INFINITY;
+    const vr_frame_t *f = &s->fr;
     for (int k = 0; k < 8; k++) {
         float P[3] = {(k & 1) ? phi[0] : plo[0], (k & 2) ? phi[1] : plo[1], (k & 4) ? phi[2] : plo[2]};
         float px, py;
         project(s, P, &px, &py);
+        /* Ray parameter of the corner: parallel t = depth + radius + 1;
+         * perspective: between the depth along the view axis (a lower
+         * bound, minimal at a corner) and the distance (maximal at one). */
+        float tl, th;
+        if (f->projection == 0) {
+            tl = th = (P[0] - f->centre[0]) * f->forward[0] + (P[1] - f->centre[1]) * f->forward[1] +
+                      (P[2] - f->centre[2]) * f->forward[2] + f->radius + 1.0f;
+        } else {
+            float d[3] = {P[0] - f->eye[0], P[1] - f->eye[1], P[2] - f->eye[2]};
+            tl = d[0] * f->forward[0] + d[1] * f->forward[1] + d[2] * f->forward[2];
+            th = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+        tmin = tl < tmin ? tl : tmin;
+        tmax = th > tmax ? th : tmax;
         mnx = px < mnx ? px : mnx;
         mxx = px > mxx ? px : mxx;
         mny = py < mny ? py : mny;
@@ -1129,6 +1164,8 @@ static bool brick_hits(const vr_state_t *s, int n, int bx, int by, int bz, const
     ops->fmul += 8 * 8;
     ops->fdiv += 8 * 2;
     ops->branches += 8 * 4 + 4;
+    if (tmax < tseg[0] - 1.0f || tmin > tseg[1] + 1.0f)
+        return false;
     return !(mxx < rect[0] - 2.0f || mnx > rect[1] + 2.0f || mxy < rect[2] - 2.0f || mny > rect[3] + 2.0f);
 }
 
@@ -1243,6 +1280,15 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         if (!s->texel[m] || !s->need[m] || !s->castf[m])
             return FW_ERROR;
     }
+    for (int m = 0; m < s->levels2d; m++) {
+        size_t n = (size_t)(s->jhi[m] - s->jlo[m] + 1) * s->tw[m];
+        s->ray_state[m] = fw_alloc(gp, n);
+        s->ray_a[m] = fw_alloc(gp, n * sizeof(float));
+        s->ray_t[m] = fw_alloc(gp, n * sizeof(float));
+        s->ray_k[m] = fw_alloc(gp, n * sizeof(int32_t));
+        if (!s->ray_state[m] || !s->ray_a[m] || !s->ray_t[m] || !s->ray_k[m])
+            return FW_ERROR;
+    }
     uint64_t n_mark = 0;
     for (int y = s->ly0; y < s->ly1; y++) {
         const float *row = s->level + (size_t)(y - s->ly0) * W;
@@ -1273,9 +1319,22 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     vr_cost_add(&ops, &VR_COST_MARK, n_mark);
     fw_charge(gp, &ops);
     s->probe.cyc_prep += fw_cycles(gp) - c0;
-    /* Passes over column ranges so that one pass's bricks fit in memory. */
-    s->n_passes = 1;
+    /* Passes (column ranges x depth segments) so that one pass's bricks fit
+     * in memory: first try one pass. */
+    s->n_passes = s->n_cols = s->n_segs = 1;
     s->pass = 0;
+    {
+        const vr_frame_t *f = &s->fr;
+        if (f->projection == 0) {
+            s->seg_t0 = 0.0f;
+            s->seg_len = 2.0f * (f->radius + 1.0f);
+        } else {
+            float lo = f->eye_distance - f->radius - 1.0f;
+            s->seg_t0 = lo > 0.0f ? lo : 0.0f;
+            s->seg_len = f->eye_distance + f->radius + 1.0f - s->seg_t0;
+        }
+    }
+
     size_t n_all = 0;
     if (footprint(gp, s, NULL, &n_all) != FW_OK)
         return FW_ERROR;
@@ -1288,35 +1347,60 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     if (c->lighting == VR_LIGHT_SPECULAR && c->split == VR_SPLIT_GP)
         reserve += VR_BRICK_VOXELS * 4u;
     avail = cap > used + reserve ? cap - used - reserve : 0;
-    /* Smallest power-of-two number of column passes whose largest pass
-     * footprint fits (each footprint computation is charged). */
-    while ((uint64_t)n_all * per > avail) {
-        if (s->n_passes >= 64)
-            return fw_fail(gp, "vr: GP %d: the bricks of its partition do not fit in local memory "
-                               "(%llu bytes free after a %llu-byte working set; %zu bricks of %llu "
-                               "bytes in the largest of 64 column passes)",
-                           s->g, (unsigned long long)avail, (unsigned long long)used, n_all,
-                           (unsigned long long)per);
-        s->n_passes *= 2;
-        n_all = 0;
-        for (s->pass = 0; s->pass < s->n_passes; s->pass++) {
-            size_t n = 0;
-            if (footprint(gp, s, NULL, &n) != FW_OK)
-                return FW_ERROR;
-            n_all = n > n_all ? n : n_all;
+    /* The host may cap a pass's bricks below what memory allows (studies of
+     * the pass machinery; 0 = memory decides). */
+    if (c->max_pass_bricks > 0 && avail > (uint64_t)c->max_pass_bricks * per)
+        avail = (uint64_t)c->max_pass_bricks * per;
+    /* Passes: the fewest (depth segments x column ranges), both powers of
+     * two, whose largest footprint fits (each footprint is charged).  Depth
+     * segments split rays front to back (a ray resumes where it stopped), so
+     * they shrink footprints along the view direction; columns across it. */
+    bool fits = (uint64_t)n_all * per <= avail;
+    /* Search up to 64 passes (the search itself is charged GP work). */
+    for (int total = 2; !fits && total <= 64; total *= 2) {
+        for (int segs = total; segs >= 1 && !fits; segs /= 2) {
+            int cols = total / segs;
+            if (segs > 16)
+                continue;
+            s->n_segs = segs;
+            s->n_cols = cols;
+            s->n_passes = segs * cols;
+            n_all = 0;
+            for (s->pass = 0; s->pass < s->n_passes; s->pass++) {
+                size_t n = 0;
+                if (footprint(gp, s, NULL, &n) != FW_OK)
+                    return FW_ERROR;
+                n_all = n > n_all ? n : n_all;
+            }
+            fits = (uint64_t)n_all * per <= avail;
         }
-        s->pass = 0;
     }
+    if (!fits)
+        return fw_fail(gp, "vr: GP %d: the bricks of its partition do not fit in local memory "
+                           "(%llu bytes free after a %llu-byte working set; %zu bricks of %llu "
+                           "bytes in the largest of %d passes)",
+                       s->g, (unsigned long long)avail, (unsigned long long)used, n_all,
+                       (unsigned long long)per, s->n_passes);
+    s->pass = 0;
     s->probe.t_prep_done = fw_time_ps(gp);
     return request_pass(gp, s);
 }
 
 /* Pixel x range of pass p. */
-static void pass_range(const vr_state_t *s, int p, float *x0, float *x1)
+/* Ray-parameter range [t0, t1) of pass q's depth segment. */
+static void seg_range(const vr_state_t *s, int q, float *t0, float *t1)
+{
+    int d = q % s->n_segs;
+    *t0 = d == 0 ? -INFINITY : s->seg_t0 + s->seg_len * (float)d / (float)s->n_segs;
+    *t1 = d + 1 == s->n_segs ? INFINITY : s->seg_t0 + s->seg_len * (float)(d + 1) / (float)s->n_segs;
+}
+
+static void pass_range(const vr_state_t *s, int q, float *x0, float *x1)
 {
     int W = s->cfg.width;
-    *x0 = p == 0 ? -INFINITY : (float)((long)W * p / s->n_passes);
-    *x1 = p + 1 == s->n_passes ? INFINITY : (float)((long)W * (p + 1) / s->n_passes);
+    int p = q / s->n_segs;
+    *x0 = p == 0 ? -INFINITY : (float)((long)W * p / s->n_cols);
+    *x1 = p + 1 == s->n_cols ? INFINITY : (float)((long)W * (p + 1) / s->n_cols);
 }
 
 /* Footprint of the current pass: bounding rectangle of its marked texel
@@ -1326,8 +1410,9 @@ static fw_status_t footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_
 {
     const vr_config_t *c = &s->cfg;
     fw_ops_t ops = {0};
-    float px0, px1;
+    float px0, px1, tseg[2];
     pass_range(s, s->pass, &px0, &px1);
+    seg_range(s, s->pass, &tseg[0], &tseg[1]);
     float rect[VR_MAX_2D_LEVELS][4];
     bool any_level[VR_MAX_2D_LEVELS] = {false};
     for (int m = 0; m < s->levels2d; m++) {
@@ -1336,8 +1421,9 @@ static fw_status_t footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++) {
             const uint8_t *nd = s->need[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
             const uint8_t *cf = s->castf[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
+            const uint8_t *rsx = s->ray_state[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
             for (int i = 0; i < s->tw[m]; i++) {
-                if (!nd[i] || cf[i])
+                if (!nd[i] || cf[i] || rsx[i] == 2)
                     continue;
                 float px = (float)(i << m) + 0.5f, py = (float)(j << m) + 0.5f;
                 if (px < px0 || px >= px1)
@@ -1386,7 +1472,7 @@ static fw_status_t footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_
                         ops.branches++;
                         if (wanted[id] || !s->brick_nonempty[nn][local])
                             continue;
-                        if (!brick_hits(s, nn, bx, by, bz, rect[m], &ops))
+                        if (!brick_hits(s, nn, bx, by, bz, rect[m], tseg, &ops))
                             continue;
                         wanted[id] = 1;
                         if (want)
@@ -1542,16 +1628,22 @@ static inline float correct_alpha(const vr_state_t *s, int level2d, bool perspec
     return t[i] + f * (t[i + 1] - t[i]);
 }
 
-static void trace(const vr_state_t *s, float px, float py, int level2d, float rgb[3],
-                  cast_counts_t *cc)
+/* TraceRay (raycast_trace) for the samples with ray parameter t < t_stop.
+ * A ray stopped at t_stop keeps its accumulated colour in rgb and its
+ * opacity and position in *io_a, *io_t, *io_k, and resumes there (resume =
+ * true) with exactly the same arithmetic.  Returns true when the ray is done. */
+static bool trace(const vr_state_t *s, float px, float py, int level2d, float rgb[3],
+                  cast_counts_t *cc, bool resume, float t_stop, float *io_a, float *io_t,
+                  int32_t *io_k)
 {
     const vr_config_t *c = &s->cfg;
     const vr_frame_t *f = &s->fr;
     float o[3], d[3], t0, t1;
-    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    if (!resume)
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
     vr_camera_ray(f, c->width, c->height, px, py, o, d);
     if (!vr_clip_box(o, d, f->box_hi, &t0, &t1))
-        return;
+        return true;
     float ov[3], dv[3];
     for (int k = 0; k < 3; k++) {
         ov[k] = o[k] * c->inv_spacing[k];
@@ -1569,11 +1661,30 @@ static void trace(const vr_state_t *s, float px, float py, int level2d, float rg
     float t = t0;
     if (perspective && t < 1e-3f)
         t = 1e-3f;
+    if (resume) {
+        acc[0] = rgb[0];
+        acc[1] = rgb[1];
+        acc[2] = rgb[2];
+        acc_a = *io_a;
+        k = *io_k;
+        t = perspective ? *io_t : t0 + (float)k * base;
+    }
     float spacing = base;
     float level3d = log2f(spacing) - offset;
     level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
     uint32_t ups = 0;
     while (t <= t1) {
+        if (t >= t_stop) {
+            /* end of this depth segment: park the ray */
+            rgb[0] = acc[0];
+            rgb[1] = acc[1];
+            rgb[2] = acc[2];
+            *io_a = acc_a;
+            *io_k = (int32_t)k;
+            *io_t = t;
+            cc->oct_up += ups;
+            return false;
+        }
         if (perspective) {
             spacing = t * (growth - 1.0f);
             level3d = log2f(spacing) - offset;
@@ -1651,6 +1762,7 @@ static void trace(const vr_state_t *s, float px, float py, int level2d, float rg
     rgb[0] = acc[0];
     rgb[1] = acc[1];
     rgb[2] = acc[2];
+    return true;
 }
 
 static fw_status_t reconstruct_if_ready(gp_t *gp, vr_state_t *s);
@@ -1660,26 +1772,37 @@ static fw_status_t cast_all(gp_t *gp, vr_state_t *s)
     uint64_t c0 = fw_cycles(gp);
     cast_counts_t cc;
     memset(&cc, 0, sizeof cc);
-    uint64_t rays = 0;
-    float px0, px1;
+    uint64_t rays = 0, calls = 0;
+    float px0, px1, tseg[2];
     pass_range(s, s->pass, &px0, &px1);
+    seg_range(s, s->pass, &tseg[0], &tseg[1]);
     for (int m = 0; m < s->levels2d; m++) {
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++) {
-            const uint8_t *nd = s->need[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
-            uint8_t *cf = s->castf[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
-            float *tx = s->texel[m] + (size_t)(j - s->jlo[m]) * s->tw[m] * 3;
+            size_t row = (size_t)(j - s->jlo[m]) * s->tw[m];
+            const uint8_t *nd = s->need[m] + row;
+            uint8_t *cf = s->castf[m] + row, *rsx = s->ray_state[m] + row;
+            float *tx = s->texel[m] + row * 3;
             for (int i = 0; i < s->tw[m]; i++) {
                 float px = (float)(i << m) + 0.5f;
-                if (!nd[i] || cf[i] || px < px0 || px >= px1)
+                if (!nd[i] || cf[i] || rsx[i] == 2 || px < px0 || px >= px1)
                     continue;
-                cf[i] = 1;
-                trace(s, px, (float)(j << m) + 0.5f, m, tx + 3 * i, &cc);
-                rays++;
+                bool resume = rsx[i] == 1;
+                if (!resume)
+                    rays++;
+                calls++;
+                bool done = trace(s, px, (float)(j << m) + 0.5f, m, tx + 3 * i, &cc, resume, tseg[1],
+                                  s->ray_a[m] + row + i, s->ray_t[m] + row + i, s->ray_k[m] + row + i);
+                if (done) {
+                    rsx[i] = 2;
+                    cf[i] = 1;
+                } else {
+                    rsx[i] = 1;
+                }
             }
         }
     }
     fw_ops_t ops = {0};
-    vr_cost_add(&ops, &VR_COST_RAY, rays);
+    vr_cost_add(&ops, &VR_COST_RAY, calls);
     vr_cost_add(&ops, &VR_COST_SAMPLE, cc.samples + cc.skips);
     vr_cost_add(&ops, &VR_COST_TRILERP, cc.trilerp);
     vr_cost_add(&ops, &VR_COST_LEVEL_BLEND, cc.blend);

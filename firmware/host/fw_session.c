@@ -164,6 +164,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
     if (st != PP5_OK)
         return st;
     s->cfg.split = o->split;
+    s->cfg.max_pass_bricks = o->max_pass_bricks;
     st = machine_init(&s->m, p);
     if (st != PP5_OK)
         return st;

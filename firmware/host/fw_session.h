@@ -51,6 +51,7 @@ typedef struct {
 
 typedef struct {
     int split;                        /* VR_SPLIT_PP (paper) or VR_SPLIT_GP */
+    int max_pass_bricks;              /* cap bricks per pass below the memory limit (0: off) */
     bool timeline;
 } fw_options_t;
 
