@@ -207,7 +207,7 @@ static void print_frame(FILE *log, const fw_session_t *s, const fw_frame_result_
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(log, "  %-40s %9.3f ms\n", fw_phase_name((fw_phase_t)k), r->phase_s[k] * 1e3);
     fprintf(log, "  rays %llu, 3D samples %llu (%llu skipped), bricks fetched %llu (%.1f MB), "
-            "up to %llu column passes per GP (local memory)\n",
+            "up to %llu passes per GP (column ranges x depth segments, local memory)\n",
             (unsigned long long)r->rays, (unsigned long long)r->samples,
             (unsigned long long)r->samples_skipped, (unsigned long long)r->bricks_fetched,
             r->bytes_fetched / 1e6, (unsigned long long)r->passes_max);
