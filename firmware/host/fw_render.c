@@ -186,6 +186,7 @@ pp5_status_t fw_write_report(const char *path, const fw_session_t *s, const fw_f
     json_kv_int(&j, "height", s->cfg.height);
     json_kv_double(&j, "setup_time_s", s->setup_s);
     json_kv_uint(&j, "setup_ring_bytes", s->setup_ring_bytes);
+    json_kv_string(&j, "machine_report", "FILE.machine.json: emu's report of the same run");
     json_key(&j, "frame");
     json_begin_object(&j);
     write_frame_json(&j, s, r);
@@ -374,6 +375,21 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
         st = png_write(c->out_png, &img);
     if (st == PP5_OK && c->report_json)
         st = fw_write_report(c->report_json, &s, &r, sc.volume.source, 0);
+    if (st == PP5_OK && c->report_json) {
+        /* emu's own run report (every unit's busy time, ring counters, parameters)
+         * beside ours: FILE.machine.json. */
+        char path[1200];
+        snprintf(path, sizeof path, "%s.machine.json", c->report_json);
+        report_meta_t meta;
+        memset(&meta, 0, sizeof meta);
+        meta.argc = 0;
+        meta.argv = NULL;
+        meta.workload = "gaze-volume (firmware/)";
+        st = report_write(&s.m, &meta, path);
+        if (st == PP5_OK)
+            fprintf(log, "reports: %s (frame breakdown) and %s (emu's machine report)\n",
+                    c->report_json, path);
+    }
     if (st == PP5_OK && o->timeline && s.m.tl)
         st = timeline_write(s.m.tl, o->timeline);
     image8_free(&img);
