@@ -167,9 +167,8 @@ static void write_frame_json(json_writer_t *j, const fw_session_t *s, const fw_f
 }
 
 pp5_status_t fw_write_report(const char *path, const fw_session_t *s, const fw_frame_result_t *r,
-                             const char *volume_name, int argc_unused)
+                             const char *volume_name, const fw_compare_t *cmp)
 {
-    (void)argc_unused;
     FILE *f = fopen(path, "w");
     if (!f)
         return pp5_fail(PP5_E_IO, "cannot write %s", path);
@@ -191,6 +190,19 @@ pp5_status_t fw_write_report(const char *path, const fw_session_t *s, const fw_f
     json_begin_object(&j);
     write_frame_json(&j, s, r);
     json_end_object(&j);
+    if (cmp && cmp->have) {
+        json_key(&j, "image_vs_native");
+        json_begin_object(&j);
+        json_kv_double(&j, "psnr_db", isfinite(cmp->psnr_native_db) ? cmp->psnr_native_db : 999.0);
+        json_kv_double(&j, "max_abs_diff", cmp->max_diff_native);
+        json_kv_double(&j, "psnr_like_for_like_db", isfinite(cmp->psnr_like_db) ? cmp->psnr_like_db : 999.0);
+        json_kv_double(&j, "max_abs_diff_like_for_like", cmp->max_diff_like);
+        json_kv_uint(&j, "native_rays", cmp->native_rays);
+        json_kv_uint(&j, "native_samples_3d", cmp->native_samples);
+        json_kv_uint(&j, "machine_rays", r->rays);
+        json_kv_uint(&j, "machine_samples_3d", r->samples);
+        json_end_object(&j);
+    }
     json_key(&j, "machine");
     pp5_params_write_json(&s->params, &j);
     json_end_object(&j);
@@ -284,6 +296,8 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
     image8_t img = {0};
     fw_frame_result_t r;
     memset(&r, 0, sizeof r);
+    fw_compare_t cmp;
+    memset(&cmp, 0, sizeof cmp);
     double sum_t = 0;
     for (int f = 0; st == PP5_OK && f < o->frames; f++) {
         /* Frames after the first move the gaze along a horizontal line
@@ -334,6 +348,13 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
         if (st == PP5_OK)
             st = quality_compare(&img, &ref_q, &s.gaze, gx, rs.gaze_y, &q2);
         if (st == PP5_OK) {
+            cmp.have = true;
+            cmp.psnr_native_db = q1.psnr_db;
+            cmp.max_diff_native = q1.max_abs;
+            cmp.psnr_like_db = q2.psnr_db;
+            cmp.max_diff_like = q2.max_abs;
+            cmp.native_rays = ns1.rays;
+            cmp.native_samples = ns1.samples;
             fprintf(log, "vs native renderer (per-sample float shading): PSNR %.2f dB, max diff %g; "
                     "native rays %llu samples %llu\n", q1.psnr_db, q1.max_abs,
                     (unsigned long long)ns1.rays, (unsigned long long)ns1.samples);
@@ -374,7 +395,7 @@ pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE 
     if (st == PP5_OK && c->out_png)
         st = png_write(c->out_png, &img);
     if (st == PP5_OK && c->report_json)
-        st = fw_write_report(c->report_json, &s, &r, sc.volume.source, 0);
+        st = fw_write_report(c->report_json, &s, &r, sc.volume.source, &cmp);
     if (st == PP5_OK && c->report_json) {
         /* emu's own run report (every unit's busy time, ring counters, parameters)
          * beside ours: FILE.machine.json. */

@@ -28,8 +28,16 @@ const char *fw_render_help(void);
 
 /* Loads the command's input like `pp5 render` does. */
 pp5_status_t fw_load_input(const render_cli_t *c, scene_t *sc, FILE *log);
-/* Writes the frame report JSON. */
+/* The image comparison printed by `pp5 render --machine` (also in the report). */
+typedef struct {
+    bool have;
+    double psnr_native_db, max_diff_native;       /* vs render/ itself */
+    double psnr_like_db, max_diff_like;           /* vs render/ on the machine's formats */
+    uint64_t native_rays, native_samples;
+} fw_compare_t;
+
+/* Writes the frame report JSON (cmp may be NULL). */
 pp5_status_t fw_write_report(const char *path, const fw_session_t *s, const fw_frame_result_t *r,
-                             const char *volume_name, int argc_unused);
+                             const char *volume_name, const fw_compare_t *cmp);
 
 #endif
