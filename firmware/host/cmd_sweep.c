@@ -171,7 +171,7 @@ static int cmd_sweep(int argc, char **argv)
         fprintf(csv, "%s,", axes[a].key);
     fprintf(csv, "frame_time_s");
     for (int k = 0; k < FW_PHASE_COUNT; k++)
-        fprintf(csv, ",phase%d_s", k);
+        fprintf(csv, ",%s", fw_phase_key((fw_phase_t)k));
     fprintf(csv, ",rays,samples,ring_data_bytes,ring_pixel_bytes,ring_util,gp_util_mean,"
                  "renderer_util_mean,bottleneck\n");
     double *xs = calloc((size_t)points, sizeof *xs);

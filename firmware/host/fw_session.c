@@ -22,6 +22,16 @@ const char *fw_phase_name(fw_phase_t p)
     return p < FW_PHASE_COUNT ? phase_names[p] : "?";
 }
 
+static const char *const phase_keys[FW_PHASE_COUNT] = {
+    "host_start_s", "gp_prep_s", "pp_shade_s", "ring_fetch_s", "gp_receive_s", "gp_cast_s",
+    "gp_exchange_s", "gp_resample_s", "fb_transfer_s",
+};
+
+const char *fw_phase_key(fw_phase_t p)
+{
+    return p < FW_PHASE_COUNT ? phase_keys[p] : "?";
+}
+
 void fw_options_default(fw_options_t *o)
 {
     memset(o, 0, sizeof *o);

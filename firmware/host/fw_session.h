@@ -30,6 +30,8 @@ typedef enum {
 } fw_phase_t;
 
 const char *fw_phase_name(fw_phase_t p);
+/* Short column/JSON key of a phase ("gp_cast_s", ...). */
+const char *fw_phase_key(fw_phase_t p);
 
 typedef struct {
     double frame_time_s;
