@@ -435,8 +435,12 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
      * a brick holds every row (small volumes); a multiple of 2^K so that every
      * level's strip rows are complete. */
     int unit = 1 << K;
-    int rows = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
-                                              : VR_STRIP_ROWS;
+    /* brow: rows of one level-0 brick row (quantised blocks are staged until
+     * a brick row is complete); rows: rows of float components built at a
+     * time (2^K, so every level's rows are complete per strip). */
+    int brow = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
+                                              : s->geom[0].by;
+    int rows = brow % unit == 0 ? unit : brow;
     float *lvl[VR_MAX_LEVELS] = {0};
     int lrow0[VR_MAX_LEVELS] = {0}, lrows[VR_MAX_LEVELS] = {0};
     uint8_t *occb[VR_MAX_LEVELS] = {0};
@@ -458,8 +462,9 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
     }
     const vr_level_geom_t *g0 = &s->geom[0];
     size_t strip_vox = (size_t)g0->nx * rows * (ts[0] > 0 ? ts[0] : 1);
+    size_t stage_vox = (size_t)g0->nx * brow * (ts[0] > 0 ? ts[0] : 1);
     float *strip = fw_alloc(gp, strip_vox * (size_t)s->stride * sizeof(float));
-    uint32_t *sqa = fw_alloc(gp, strip_vox * 4), *sqn = s->stride == 8 ? fw_alloc(gp, strip_vox * 4) : NULL;
+    uint32_t *sqa = fw_alloc(gp, stage_vox * 4), *sqn = s->stride == 8 ? fw_alloc(gp, stage_vox * 4) : NULL;
     /* Full-slab level-0 occupancy bits to send to GP 0. */
     size_t occ0_count = level_voxels(g0, ts[0]);
     uint8_t *occ0 = fw_alloc(gp, occ0_count / 8 + 1);
@@ -467,13 +472,15 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
         return FW_ERROR;
     for (int sy = 0; sy < g0->ny; sy += rows) {
         int ry = g0->ny - sy < rows ? g0->ny - sy : rows;
+        int brow0 = (sy / brow) * brow;
         for (int z = 0; z < ts[0]; z++)
             for (int y = 0; y < ry; y++)
                 for (int x = 0; x < g0->nx; x++) {
                     size_t i = ((size_t)z * rows + y) * g0->nx + x;
+                    size_t qi = ((size_t)z * brow + (sy + y - brow0)) * g0->nx + x;
                     float *o = strip + i * s->stride;
                     base_voxel(s, x, sy + y, zs[0] + z, o, &ops);
-                    quantise(o, s->stride, &sqa[i], sqn ? &sqn[i] : NULL, &ops);
+                    quantise(o, s->stride, &sqa[qi], sqn ? &sqn[qi] : NULL, &ops);
                     if (o[3] > 0.0f) {
                         size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
                         occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
@@ -483,9 +490,13 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
         /* Level-0 bricks of this strip: rows [sy, sy + ry) cover whole
          * brick rows because by_0 divides the strip (32 = by when bz = 8,
          * bx = 64; otherwise bricks are written from a gathered copy). */
-        if (g0->by == rows || g0->by >= g0->ny) {
+        bool row_done = sy + ry >= brow0 + brow || sy + ry >= g0->ny;
+        if (brow % rows != 0 || (g0->by != brow && g0->by < g0->ny)) {
+            return fw_fail(gp, "vr: level-0 brick height %d does not match the %d-row strip",
+                           g0->by, rows);
+        } else if (row_done) {
             for (int bz = zs[0] / g0->bz; bz * g0->bz < zs[0] + ts[0]; bz++)
-                for (int by = sy / g0->by; by * g0->by < sy + ry; by++)
+                for (int by = brow0 / g0->by; by * g0->by < brow0 + brow && by < g0->gy; by++)
                     for (int bx = 0; bx < g0->gx; bx++) {
                         /* view the strip as a level array starting at slice zs[0], row sy */
                         const vr_level_geom_t *g = g0;
@@ -500,10 +511,10 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                                     int x = bx * g->bx + lx, y = by * g->by + ly,
                                         z = bz * g->bz + lz;
                                     size_t bi = ((size_t)lz * g->by + ly) * g->bx + lx;
-                                    if (x >= g->nx || y >= g->ny || z >= g->nz || y < sy ||
-                                        y >= sy + ry)
+                                    if (x >= g->nx || y >= g->ny || z >= g->nz || y < brow0 ||
+                                        y >= brow0 + brow)
                                         continue;
-                                    size_t si = ((size_t)(z - zs[0]) * rows + (y - sy)) * g->nx + x;
+                                    size_t si = ((size_t)(z - zs[0]) * brow + (y - brow0)) * g->nx + x;
                                     blk[bi] = sqa[si];
                                     if (sqn)
                                         blkn[bi] = sqn[si];
@@ -533,9 +544,6 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         }
                         fw_free(gp, blk);
                     }
-        } else {
-            return fw_fail(gp, "vr: level-0 brick height %d does not match the %d-row strip",
-                           g0->by, rows);
         }
         /* Levels 1..K of this strip. */
         const float *src = strip;
