@@ -129,6 +129,11 @@ TEST(fw_image_matches_native_perspective_gaze)
                               PROJECTION_PERSPECTIVE);
 }
 
+TEST(fw_image_matches_native_moving_object_gaze)
+{
+    check_against_native(SHADE_MOVING_OBJECT, RENDER_MODE_GAZE, VR_SPLIT_PP);
+}
+
 TEST(fw_image_matches_native_diffuse_gaze) { check_against_native(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }
 TEST(fw_image_matches_native_diffuse_full) { check_against_native(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL, VR_SPLIT_PP); }
 TEST(fw_image_matches_native_specular_pp_gaze) { check_against_native(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }

@@ -18,7 +18,8 @@ static uint32_t next(uint32_t *s)
     return *s;
 }
 
-static void run_case(const float half[3], float ks, int exponent, int two_sided, uint32_t seed)
+static void run_case_l(const float half[3], const float *light, float ks, int exponent,
+                       int two_sided, uint32_t seed)
 {
     pp_params_t pp;
     pp_params_default(&pp);
@@ -46,6 +47,8 @@ static void run_case(const float half[3], float ks, int exponent, int two_sided,
     }
     vr_shade_consts_t c;
     vr_shade_consts(&c, half, ks, exponent, two_sided);
+    if (light)
+        vr_shade_consts_diffuse(&c, light, 0.15f, 0.85f);
     pp_stream_t st;
     pp_stream_init(&st);
     uint32_t slots[SLOTS] = {0, 1};
@@ -65,6 +68,18 @@ static void run_case(const float half[3], float ks, int exponent, int two_sided,
     }
     pp_stream_free(&st);
     renderer_free(&r);
+}
+
+static void run_case(const float half[3], float ks, int exponent, int two_sided, uint32_t seed)
+{
+    run_case_l(half, NULL, ks, exponent, two_sided, seed);
+}
+
+TEST(fw_pp_moving_object_stream_matches_integer_definition)
+{
+    float h[3] = {0.2f, -0.3f, -0.932738f}, l[3] = {-0.35f, -0.45f, -0.821854f};
+    run_case_l(h, l, 0.3f, 20, 1, 31337u);
+    run_case_l(h, l, 0.0f, 8, 0, 5150u);
 }
 
 TEST(fw_pp_shading_stream_matches_integer_definition)

@@ -32,6 +32,13 @@ typedef struct {
     int32_t ks8;           /* round(ks * 256) */
     int32_t exponent;      /* integer specular exponent 1..255 */
     int32_t two_sided;
+    /* Moving object (paper §5): diffuse per frame too.  l = light immediates
+     * (same scale as h); shade sh = ka15 + (((|N.L| + 32) >> 6) * kd15 + 2^14 >> 15)
+     * in Q15, ka15 + kd15 for a zero normal (render/'s "no surface"); each
+     * channel becomes min(255, (c * sh + 2^14) >> 15) before the specular. */
+    int32_t diffuse_on;
+    int32_t l[3];
+    int32_t ka15, kd15;
 } vr_shade_consts_t;
 
 static inline uint32_t vr_q8(float v)
@@ -72,6 +79,19 @@ static inline void vr_shade_consts(vr_shade_consts_t *c, const float half[3], fl
     c->ks8 = (int32_t)lrintf(ks * 256.0f);
     c->exponent = exponent;
     c->two_sided = two_sided;
+    c->diffuse_on = 0;
+    c->l[0] = c->l[1] = c->l[2] = 0;
+    c->ka15 = c->kd15 = 0;
+}
+
+/* Adds the per-frame diffuse term (moving object): light l (unit, object space). */
+static inline void vr_shade_consts_diffuse(vr_shade_consts_t *c, const float l[3], float ka, float kd)
+{
+    c->diffuse_on = 1;
+    for (int k = 0; k < 3; k++)
+        c->l[k] = (int32_t)lrint((double)l[k] * VR_H_SCALE);
+    c->ka15 = (int32_t)lrintf(ka * 32768.0f);
+    c->kd15 = (int32_t)lrintf(kd * 32768.0f);
 }
 
 /* (x / 2^15)^e in Q15 by square-and-multiply from the exponent's top bit. */
@@ -92,6 +112,28 @@ static inline uint32_t vr_pow_q15(uint32_t x, int e)
 /* Shaded block O from blocks A and N. */
 static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk, uint32_t n_blk)
 {
+    if (c->diffuse_on) {
+        int32_t dl = 0;
+        for (int k = 0; k < 3; k++)
+            dl += vr_sext10(n_blk >> (10 * k)) * c->l[k];
+        if (dl < 0)
+            dl = c->two_sided ? -dl : 0;
+        /* rounded shifts: truncation would darken every voxel by about 1/255 */
+        uint32_t xl = ((uint32_t)(dl + 32) >> 6) & 0xffffu;
+        uint32_t sh = (((uint32_t)((((uint64_t)xl * (uint32_t)c->kd15 + 16384u) >> 15) & 0x1ffffu)) +
+                       (uint32_t)c->ka15) & 0x3ffffu;
+        if ((n_blk & 0x3fffffffu) == 0)
+            sh = (uint32_t)(c->ka15 + c->kd15) & 0x3ffffu;
+        uint32_t shaded = a_blk & 0xff000000u;
+        for (int k = 0; k < 3; k++) {
+            uint32_t ch = (a_blk >> (8 * k)) & 0xffu;
+            uint32_t v = (uint32_t)((((uint64_t)ch * sh + 16384u) >> 15) & 0xffffu);
+            if (v > 255u)
+                v = 255u;
+            shaded |= v << (8 * k);
+        }
+        a_blk = shaded;
+    }
     int32_t d = 0;
     for (int k = 0; k < 3; k++)
         d += vr_sext10(n_blk >> (10 * k)) * c->h[k];

@@ -994,7 +994,7 @@ static void frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
 
 static bool uses_exec(const vr_state_t *s)
 {
-    return s->cfg.lighting == VR_LIGHT_SPECULAR && s->cfg.split == VR_SPLIT_PP;
+    return s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_PP;
 }
 
 /* Backing-store block a GP reads for brick id (and the N block, GP split). */
@@ -1012,7 +1012,7 @@ static unsigned brick_block(const vr_state_t *s, int id, int which)
 static fw_status_t send_read(gp_t *gp, vr_state_t *s, int id, unsigned requester)
 {
     unsigned r = (unsigned)id % (unsigned)s->n_r;
-    int reads = (s->cfg.lighting == VR_LIGHT_SPECULAR && s->cfg.split == VR_SPLIT_GP) ? 2 : 1;
+    int reads = (s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_GP) ? 2 : 1;
     for (int w = 0; w < reads; w++) {
         uint32_t args[RING_MSG_ARGS] = {brick_block(s, id, w), 0,
                                         ring_addr_pack(ring_addr(RING_NODE_GP, requester)),
@@ -1205,10 +1205,27 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         return fw_fail(gp, "vr: frame started before the mip map was distributed");
     if ((s->fr.projection != 0) != (c->perspective != 0))
         return fw_fail(gp, "vr: the projection is fixed per sequence (octree grids)");
-    if (c->lighting == VR_LIGHT_SPECULAR) {
+    if (c->lighting != VR_LIGHT_DIFFUSE) {
+        /* Fixed light: light_dir is in object space.  Moving object: it is in
+         * eye space; carry it into object space for this view
+         * (raycast_ctx_init). */
+        float light[3];
+        for (int a = 0; a < 3; a++)
+            light[a] = c->lighting == VR_LIGHT_MOVING
+                           ? c->light_dir[0] * s->fr.right[a] + c->light_dir[1] * s->fr.down[a] +
+                                 c->light_dir[2] * s->fr.forward[a]
+                           : c->light_dir[a];
         float view[3] = {-s->fr.forward[0], -s->fr.forward[1], -s->fr.forward[2]}, half[3];
-        vr_half_vector(c->light_dir, view, half);
+        vr_half_vector(light, view, half);
         vr_shade_consts(&s->shade_consts, half, c->specular, (int)c->specular_exponent, c->two_sided);
+        if (c->lighting == VR_LIGHT_MOVING)
+            vr_shade_consts_diffuse(&s->shade_consts, light, c->ambient, c->diffuse);
+        fw_ops_t lo = {0};
+        lo.fmul = 9 + 12;
+        lo.fadd = 6 + 8;
+        lo.fsqrt = 1;
+        lo.fdiv = 3;
+        fw_charge(gp, &lo);
     }
     if (uses_exec(s) && send_exec(gp, s) != FW_OK)
         return FW_ERROR;
@@ -1352,7 +1369,7 @@ static fw_status_t vr_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     /* GP split: a brick's N block arrives right behind its A block (same
      * renderer FIFO) and is freed once shaded, so one N is live at a time. */
     uint64_t per = VR_BRICK_VOXELS * 4u;
-    if (c->lighting == VR_LIGHT_SPECULAR && c->split == VR_SPLIT_GP)
+    if (c->lighting != VR_LIGHT_DIFFUSE && c->split == VR_SPLIT_GP)
         reserve += VR_BRICK_VOXELS * 4u;
     avail = cap > used + reserve ? cap - used - reserve : 0;
     /* The host may cap a pass's bricks below what memory allows (studies of
@@ -1509,7 +1526,7 @@ static fw_status_t request_pass(gp_t *gp, vr_state_t *s)
     uint32_t frame = (uint32_t)s->frame;
     /* Requests: via the renderer's driver GP when the PPs shade this frame
      * (its READ_BS then follows its EXEC in the same FIFO), else direct. */
-    s->bricks_pending = (int)n_want * ((c->lighting == VR_LIGHT_SPECULAR && c->split == VR_SPLIT_GP) ? 2 : 1);
+    s->bricks_pending = (int)n_want * ((c->lighting != VR_LIGHT_DIFFUSE && c->split == VR_SPLIT_GP) ? 2 : 1);
     if (uses_exec(s)) {
         uint32_t *list = fw_alloc(gp, (n_want + 1) * sizeof(uint32_t));
         if (!list)
@@ -1986,7 +2003,7 @@ static fw_status_t on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
     fw_charge(gp, &ops);
     s->probe.cyc_unpack += fw_cycles(gp) - c0;
     s->probe.bytes_fetched += m->payload_bytes;
-    bool gp_shade = s->cfg.lighting == VR_LIGHT_SPECULAR && s->cfg.split == VR_SPLIT_GP;
+    bool gp_shade = s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_GP;
     if (!gp_shade) {
         s->cache[id] = dst;
     } else {

@@ -104,11 +104,7 @@ static pp5_status_t make_config(fw_session_t *s, const volume_t *v, const classi
     c->lighting = sh->lighting == SHADE_DIFFUSE_FIXED_LIGHT ? VR_LIGHT_DIFFUSE
                   : sh->lighting == SHADE_SPECULAR_FIXED_LIGHT ? VR_LIGHT_SPECULAR
                                                                 : VR_LIGHT_MOVING;
-    if (c->lighting == VR_LIGHT_MOVING)
-        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: lighting 'moving' (diffuse and "
-                        "specular per frame) is not implemented on the machine yet; use "
-                        "diffuse or specular");
-    if (c->lighting == VR_LIGHT_SPECULAR) {
+    if (c->lighting != VR_LIGHT_DIFFUSE) {
         float e = sh->specular_exponent;
         if (!(e >= 1.0f && e <= 255.0f) || e != floorf(e))
             return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: the PPs raise N.H to an "
@@ -116,6 +112,10 @@ static pp5_status_t make_config(fw_session_t *s, const volume_t *v, const classi
         if (!(sh->specular >= 0.0f && sh->specular < 4.0f))
             return pp5_fail(PP5_E_RANGE, "machine renderer: specular coefficient must lie in "
                             "[0, 4) for the Q8 PP immediate");
+        if (c->lighting == VR_LIGHT_MOVING &&
+            !(sh->ambient >= 0.0f && sh->diffuse >= 0.0f && sh->ambient + sh->diffuse <= 4.0f))
+            return pp5_fail(PP5_E_RANGE, "machine renderer: ambient and diffuse must be >= 0 "
+                            "with a sum <= 4 for the Q15 PP shade");
     }
     c->tf_count = tf->count;
     for (int i = 0; i < tf->count && i < VR_MAX_CONTOURS; i++) {
@@ -507,15 +507,21 @@ pp5_status_t fw_reference_init(native_renderer_t *nr, const volume_t *v, const c
     vr_shade_consts_t consts;
     memset(&consts, 0, sizeof consts);
     float half[3] = {0, 0, 0};
-    if (mp->lighting == SHADE_SPECULAR_FIXED_LIGHT) {
+    float light[3] = {0, 0, 0};
+    if (mp->lighting != SHADE_DIFFUSE_FIXED_LIGHT) {
         camera_t cam;
         camera_setup(&cam, &rs->view, mp, rs->width, rs->height);
+        for (int a = 0; a < 3; a++)
+            light[a] = mp->lighting == SHADE_MOVING_OBJECT
+                           ? shade->light_dir[0] * cam.right[a] + shade->light_dir[1] * cam.down[a] +
+                                 shade->light_dir[2] * cam.forward[a]
+                           : shade->light_dir[a];
         float view[3] = {-cam.forward[0], -cam.forward[1], -cam.forward[2]};
-        shade_half_vector(shade->light_dir, view, half);
+        shade_half_vector(light, view, half);
         vr_shade_consts(&consts, half, shade->specular, (int)shade->specular_exponent,
                         shade->two_sided);
-    } else if (mp->lighting == SHADE_MOVING_OBJECT) {
-        return pp5_fail(PP5_E_UNSUPPORTED, "reference: moving-object lighting not supported");
+        if (mp->lighting == SHADE_MOVING_OBJECT)
+            vr_shade_consts_diffuse(&consts, light, shade->ambient, shade->diffuse);
     }
     for (int n = 0; n < mp->levels; n++) {
         mip3d_level_t *L = &mp->level[n];
@@ -542,11 +548,18 @@ pp5_status_t fw_reference_init(native_renderer_t *nr, const volume_t *v, const c
                 for (int k = 0; k < 4; k++)
                     d[k] = o[k];
                 if (mp->stride == 8 && o[3] > 0.0f) {
+                    /* render/'s shade_sample, applied to the voxel */
                     float nn[3] = {o[4], o[5], o[6]};
                     float len = sqrtf(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-                    if (len > 0.0f) {
+                    if (len > 0.0f)
                         for (int k = 0; k < 3; k++)
                             nn[k] /= len;
+                    if (mp->lighting == SHADE_MOVING_OBJECT) {
+                        float dd = shade_diffuse(shade, nn, light);
+                        for (int k = 0; k < 3; k++)
+                            d[k] *= dd;
+                    }
+                    if (len > 0.0f) {
                         float sp = o[3] * shade_specular(shade, nn, half);
                         for (int k = 0; k < 3; k++)
                             d[k] += sp;
