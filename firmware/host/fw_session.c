@@ -44,8 +44,10 @@ void fw_bands(int height, int n_gp, int levels2d, int32_t *band_y0)
      * band's texel rows start on a texel boundary of every 2D level). */
     int unit = 1 << (levels2d - 1);
     int units = (height + unit - 1) / unit;
+    /* Fewer units than GPs: one unit each, the empty bands last (a GP's
+     * boundary rows always come from the next GP). */
     for (int g = 0; g <= n_gp; g++) {
-        int u = (int)(((long long)units * g) / n_gp);
+        int u = units >= n_gp ? (int)(((long long)units * g) / n_gp) : (g < units ? g : units);
         int y = u * unit;
         band_y0[g] = y > height ? height : y;
     }
