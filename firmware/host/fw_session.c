@@ -177,6 +177,14 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
         return st;
     s->cfg.split = o->split;
     s->cfg.max_pass_bricks = o->max_pass_bricks;
+    {
+        int unit = 1 << (s->cfg.levels2d - 1);
+        s->n_units = (rs->height + unit - 1) / unit;
+        s->unit_factor = calloc((size_t)s->n_units, sizeof *s->unit_factor);
+        s->unit_weight = calloc((size_t)s->n_units, sizeof *s->unit_weight);
+        if (!s->unit_factor || !s->unit_weight)
+            return pp5_fail(PP5_E_NOMEM, "machine renderer: out of memory");
+    }
     st = machine_init(&s->m, p);
     if (st != PP5_OK)
         return st;
@@ -233,6 +241,8 @@ void fw_session_free(fw_session_t *s)
 {
     if (s->m_ok)
         machine_free(&s->m);
+    free(s->unit_factor);
+    free(s->unit_weight);
     memset(s, 0, sizeof *s);
 }
 
@@ -241,12 +251,13 @@ void fw_session_free(fw_session_t *s)
  * per band unit of 2^(levels2d-1) rows, plus a per-row share for the
  * resampling every pixel needs.  Host work, not charged to the machine. */
 void fw_bands_balanced(const gaze_model_t *gm, bool gaze, double gx, double gy, int width,
-                       int height, int n_gp, int levels2d, int32_t *band_y0)
+                       int height, int n_gp, int levels2d, const double *unit_factor,
+                       double *unit_weight, int32_t *band_y0)
 {
     int unit = 1 << (levels2d - 1);
     int units = (height + unit - 1) / unit;
     double *w = calloc((size_t)units, sizeof *w);
-    if (!w || !gaze || units < n_gp) {
+    if (!w || units < n_gp) {
         free(w);
         fw_bands(height, n_gp, levels2d, band_y0);
         return;
@@ -255,11 +266,20 @@ void fw_bands_balanced(const gaze_model_t *gm, bool gaze, double gx, double gy, 
     for (int u = 0; u < units; u++) {
         double y = u * unit + 0.5 * unit, sum = 0;
         for (int x = 2; x < width; x += 4) {
-            double dx = x - gx, dy = y - gy;
-            float level = gaze_level(gm, sqrt(dx * dx + dy * dy));
+            float level = 0.0f;
+            if (gaze) {
+                double dx = x - gx, dy = y - gy;
+                level = gaze_level(gm, sqrt(dx * dx + dy * dy));
+            }
             sum += pow(0.25, level);
         }
         w[u] = sum * 4.0 * unit + 0.02 * width * unit;
+        if (unit_weight)
+            unit_weight[u] = w[u];
+        /* Measured cost per estimated ray of the rows' GP in the previous
+         * frame (samples per ray vary with the data). */
+        if (unit_factor && unit_factor[u] > 0)
+            w[u] *= unit_factor[u];
         total += w[u];
     }
     double acc = 0;
@@ -279,7 +299,7 @@ void fw_bands_balanced(const gaze_model_t *gm, bool gaze, double gx, double gy, 
     free(w);
 }
 
-static void fill_frame(const fw_session_t *s, double gx, double gy, vr_frame_t *f)
+static void fill_frame(fw_session_t *s, double gx, double gy, vr_frame_t *f)
 {
     camera_t cam;
     camera_setup(&cam, &s->rs.view, &s->dims, s->rs.width, s->rs.height);
@@ -308,7 +328,8 @@ static void fill_frame(const fw_session_t *s, double gx, double gy, vr_frame_t *
         f->gaze_scale = pow(growth, (double)s->prog_index);
     } else {
         fw_bands_balanced(&s->gaze, s->rs.mode == RENDER_MODE_GAZE, gx, gy, s->rs.width,
-                          s->rs.height, (int)s->m.n_gp, s->cfg.levels2d, f->band_y0);
+                          s->rs.height, (int)s->m.n_gp, s->cfg.levels2d,
+                          s->frames > 0 ? s->unit_factor : NULL, s->unit_weight, f->band_y0);
     }
 }
 
@@ -456,6 +477,33 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         r->phase_s[FW_PHASE_GP_EXCHANGE] = tb - tc;
         r->phase_s[FW_PHASE_GP_RESAMPLE] = te - tb;
         r->phase_s[FW_PHASE_FB_TRANSFER] = T - te;
+    }
+    /* Load balance for the next frame: each band's measured GP cycles per
+     * unit of estimated work, normalised (host bookkeeping, deterministic). */
+    if (!s->rs.progressive && s->unit_factor) {
+        int unit = 1 << (s->cfg.levels2d - 1);
+        double fsum = 0;
+        int fn = 0;
+        for (unsigned g = 0; g < m->n_gp; g++) {
+            const vr_probe_t *pg = vr_probe(m->gp[g].state);
+            int u0 = s->last_bands[g] / unit, u1 = (s->last_bands[g + 1] + unit - 1) / unit;
+            if (!pg || u1 <= u0)
+                continue;
+            double wsum = 0;
+            for (int u = u0; u < u1 && u < s->n_units; u++)
+                wsum += s->unit_weight[u];
+            double cost = (double)(pg->cyc_prep + pg->cyc_cast + pg->cyc_pixels + pg->cyc_unpack +
+                                   pg->cyc_shade);
+            double fct = wsum > 0 && cost > 0 ? cost / wsum : 0;
+            for (int u = u0; u < u1 && u < s->n_units; u++)
+                s->unit_factor[u] = fct;
+            if (fct > 0) {
+                fsum += fct;
+                fn++;
+            }
+        }
+        for (int u = 0; u < s->n_units && fn > 0; u++)
+            s->unit_factor[u] = s->unit_factor[u] > 0 ? s->unit_factor[u] / (fsum / fn) : 1.0;
     }
     int best = 0;
     for (int k = 1; k < FW_PHASE_COUNT; k++)

@@ -72,6 +72,10 @@ typedef struct {
     unsigned prog_index;              /* frames of the current progressive sequence */
     fw_frame_result_t last;
     int32_t last_bands[VR_MAX_GPS + 1];
+    /* Load balancing: per band unit (2^(levels-1) rows), the estimated work of
+     * the current frame and the previous frame's measured cost factor. */
+    int n_units;
+    double *unit_weight, *unit_factor;
 } fw_session_t;
 
 void fw_options_default(fw_options_t *o);
@@ -102,7 +106,11 @@ pp5_status_t fw_reference_init(native_renderer_t *nr, const volume_t *v, const c
 
 /* Image rows of GP g's band for an image of height h on n_gp GPs. */
 void fw_bands(int height, int n_gp, int levels2d, int32_t *band_y0);
+/* Bands of equal estimated work (acuity model on a subsampled grid, times
+ * unit_factor when given: the previous frame's measured cost per unit of
+ * estimate); unit_weight (may be NULL) receives the unweighted estimate. */
 void fw_bands_balanced(const gaze_model_t *gm, bool gaze, double gx, double gy, int width,
-                       int height, int n_gp, int levels2d, int32_t *band_y0);
+                       int height, int n_gp, int levels2d, const double *unit_factor,
+                       double *unit_weight, int32_t *band_y0);
 
 #endif
