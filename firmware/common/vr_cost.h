@@ -4,7 +4,8 @@
  * call overhead) and converts them with these rows at the end of each ray
  * batch.  Each row is the count of operations the C kernel in
  * firmware/gp/vr_gp.c performs (read off the code, statement by statement);
- * tests/test_fw_kernels.c re-counts the trilinear kernel with the counting
+ * tests/test_fw_pp.c (fw_trilerp_cost_row_counts_real_operations) re-counts the
+ * trilinear kernel's floating-point operations with the counting
  * helpers of fw_api.h on real data and requires equality.  Rows are
  * {fadd, fmul, fdiv, fsqrt, loads, stores, int_ops, branches}. */
 #ifndef PP5_VR_COST_H

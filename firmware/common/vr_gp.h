@@ -12,7 +12,7 @@
 typedef struct {
     /* Emulated picoseconds of the last frame's phase boundaries on this GP. */
     uint64_t t_start, t_prep_done, t_data_done, t_cast_done, t_boundary, t_done;
-    /* Summed over column passes: waiting for a pass's bricks, casting it. */
+    /* Summed over passes: waiting for a pass's bricks, casting it. */
     uint64_t wait_ps, cast_ps, passes;
     /* i860 cycles charged per phase in the last frame. */
     uint64_t cyc_prep, cyc_exec_build, cyc_forward, cyc_unpack, cyc_shade, cyc_cast, cyc_pixels;

@@ -4,8 +4,9 @@
  * classify.c, shade.c, gaze2d.c, raycast.c) operation for operation and in the
  * same order, so the machine's image agrees with render/'s bit for bit where
  * the data agree.  Firmware cannot include render/ (the Makefile's include
- * path), hence the restatement; tests/test_fw_kernels.c checks each kernel
- * against the render/ original on the same inputs. */
+ * path), hence the restatement.  tests/test_fw_machine.c checks them end to
+ * end: the machine's rays and samples equal render/'s run on the machine's
+ * formats, and the images agree to 1/255. */
 #ifndef PP5_VR_KERNELS_H
 #define PP5_VR_KERNELS_H
 

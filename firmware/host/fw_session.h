@@ -42,7 +42,7 @@ typedef struct {
     uint64_t rays, samples, samples_skipped;
     uint64_t bricks_fetched, bytes_fetched, pp_stream_words;
     bool full_resolution_everywhere;  /* every pixel at 2D level 0 (progressive) */
-    uint64_t passes_max;              /* column passes of the GP that needed most (memory) */
+    uint64_t passes_max;              /* passes of the GP that needed most (memory) */
     uint64_t ring_bytes[RING_CLASS_COUNT];
     double ring_util[RING_CLASS_COUNT];   /* class bytes / (aggregate bandwidth x frame time) */
     double ring_util_total;
