@@ -4,26 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Four words per vector (GCC/Clang vector extension: AVX2 when the target has
- * it, otherwise pairs of SSE2 or scalar operations; the result is identical). */
-typedef uint64_t v4_t __attribute__((vector_size(32)));
-#if defined(__GNUC__) && !defined(__clang__)
-/* GCC 12 reports the fully unrolled, fully initialised carry arrays of the
- * AVX2 clones as "may be used uninitialized" (a false positive). */
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-/* The same vector as a memory access: any alignment of 8, may alias uint64_t. */
-typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias));
-#define VW 4u                     /* words per vector */
+#include "pp_simd.h"
+
 #define BLK 4u                    /* vectors per block: 16 words = 1024 PPs */
 #define BW (VW * BLK)             /* words per block */
-
-/* Macros rather than functions: no vector crosses a call (no -Wpsabi ABI notes). */
-#define ld(p) ((v4_t)*(const v4_mem_t *)(const void *)(p))
-#define st(p, v) (*(v4_mem_t *)(void *)(p) = (v))
-#define splat(x) ((v4_t){(x), (x), (x), (x)})
-/* Masked write: where e, new; elsewhere old. */
-#define merge(e, new_v, old) (((new_v) & (e)) | ((old) & ~(e)))
 
 /* Bit i of an n-bit immediate, as an all-ones or all-zero word. */
 static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
@@ -56,19 +40,6 @@ void pp_array_clear(pp_array_t *a)
  * "block fully enabled" arguments are compile-time constants at each call, so
  * every combination is compiled branch-free; the dispatchers are cloned for
  * AVX2 where the compiler and CPU support it (same results, chosen at load). */
-#define INLINE static inline __attribute__((always_inline))
-/* Fully unroll the per-vector loops so carries and enables stay in registers. */
-#if defined(__GNUC__) && !defined(__clang__)
-#define UNROLL _Pragma("GCC unroll 8")
-#else
-#define UNROLL
-#endif
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define PP_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define PP_CLONES
-#endif
-
 /* True when every PP of the block at word w is enabled: stores need no merge. */
 static bool block_full(const pp_array_t *A, unsigned w)
 {
@@ -386,24 +357,24 @@ PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
     }
 }
 
-/* ---- QEE: rows of Q planes from qee.c, written into d under E ---- */
+/* ---- QEE: Q planes from qee.c, 16 words (8 rows) at a time, written into d under E ---- */
 
 typedef struct {
     pp_array_t *A;
     unsigned d, n, shift;
 } qee_ctx_t;
 
-static void qee_store_row(void *vctx, unsigned row, const uint64_t *planes)
+PP_CLONES static void qee_store_step(void *vctx, unsigned step, const uint64_t *planes)
 {
-    qee_ctx_t *q = vctx;
+    const qee_ctx_t *q = vctx;
     pp_array_t *A = q->A;
+    const unsigned w = QEE_LANES * step;
     for (unsigned i = 0; i < q->n; i++) {
-        for (unsigned h = 0; h < 2; h++) {
-            unsigned w = 2 * row + h;
-            uint64_t e = A->en[w];
-            uint64_t *pd = &A->mem[q->d + i][w];
-            *pd = (planes[2 * (q->shift + i) + h] & e) | (*pd & ~e);
-        }
+        uint64_t *pd = A->mem[q->d + i] + w;
+        const uint64_t *src = planes + QEE_LANES * (q->shift + i);
+        UNROLL
+        for (unsigned v = 0; v < QEE_LANES / VW; v++)
+            st(pd + v * VW, merge(ld(A->en + w + v * VW), ld(src + v * VW), ld(pd + v * VW)));
     }
 }
 
@@ -412,7 +383,7 @@ static void exec_qee(pp_array_t *A, const pp_insn_t *in, int x0, int y0)
     qee_coeffs_t c = {(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
                       (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
     qee_ctx_t ctx = {A, in->d, in->n, in->x};
-    qee_row_planes(&c, x0, y0, in->x + in->n, A->qee_scratch, qee_store_row, &ctx);
+    qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, qee_store_step, &ctx);
 }
 
 void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)

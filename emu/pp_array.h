@@ -27,7 +27,7 @@ typedef struct pp_array {
     uint64_t en[PP_PLANE_WORDS];
     uint64_t flag[PP_PLANE_WORDS];
     uint64_t zero[PP_PLANE_WORDS];     /* always zero: the source of constant-0 bits */
-    uint64_t qee_scratch[4 * PP_QEE_MAX_BITS];
+    uint64_t qee_scratch[QEE_SCRATCH_WORDS(PP_QEE_MAX_BITS)];
 } pp_array_t;
 
 pp5_status_t pp_array_alloc(pp_array_t **out);

@@ -3,6 +3,8 @@
 
 #include <stdlib.h>
 
+#include "pp_simd.h"
+
 bool qee_origin_ok(int x0, int y0)
 {
     return abs(x0) <= QEE_COORD_MAX - 127 && abs(y0) <= QEE_COORD_MAX - 127;
@@ -47,29 +49,6 @@ unsigned qee_serial_next_bit(qee_serial_t *s)
     return sum & 1u;
 }
 
-/* The two words of a 128-PP row as one vector (SSE2 on x86-64, pairs elsewhere). */
-typedef uint64_t v2_t __attribute__((vector_size(16), aligned(8), may_alias));
-#define LD2(p) (*(const v2_t *)(const void *)(p))
-#define ST2(p, v) (*(v2_t *)(void *)(p) = (v))
-
-/* Per row: acc += addend (bit-sliced, `bits` planes of 2 words), then
- * acc += constant v (sign-extended) in every lane.  One pass, two carries. */
-static void row_step(uint64_t *acc, const uint64_t *addend, int64_t v, unsigned bits)
-{
-    v2_t c1 = {0, 0}, c2 = {0, 0};
-    for (unsigned k = 0; k < bits; k++) {
-        v2_t a = LD2(acc + 2 * k), b = LD2(addend + 2 * k);
-        v2_t x = a ^ b;
-        v2_t s = x ^ c1;
-        c1 = (a & b) | (c1 & x);
-        uint64_t kb = bit_of(v, k) ? ~(uint64_t)0 : 0;
-        v2_t K = {kb, kb};
-        v2_t y = s ^ K;
-        ST2(acc + 2 * k, y ^ c2);
-        c2 = (s & K) | (c2 & y);
-    }
-}
-
 /* In-place transpose of a 64x64 bit matrix (bit c of word r <-> bit r of word c)
  * by swapping ever smaller blocks: 6 stages x 32 word pairs. */
 static void transpose64(uint64_t a[64])
@@ -98,25 +77,90 @@ static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
     }
 }
 
-/* Row recurrence: Q(x, y+1) - Q(x, y) = B x + C (2y + 1) + E, i.e. a per-column
- * part P(x) = B x plus a per-row constant; both are exact integers, so adding
- * them mod 2^bits keeps the low `bits` bits of Q exact. */
-void qee_row_planes(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_row_fn emit, void *ctx)
+/* Scalar bit-sliced add over the 2-word lanes of one row (initialisation):
+ * dst(stride 16) = src(stride 16) + addend planes (2 words, shifted up by `shl`
+ * planes, i.e. multiplied by 2^shl) + constant v. */
+static void lane_add(uint64_t *dst, const uint64_t *src, const uint64_t *addend, unsigned shl,
+                     int64_t v, unsigned bits)
 {
-    uint64_t *row = scratch;               /* 2 * bits */
-    uint64_t *colpart = scratch + 2 * bits; /* 2 * bits */
+    for (unsigned h = 0; h < 2; h++) {
+        uint64_t c1 = 0, c2 = 0;
+        for (unsigned k = 0; k < bits; k++) {
+            uint64_t a = src[QEE_LANES * k + h];
+            uint64_t b = k >= shl ? addend[2 * (k - shl) + h] : 0;
+            uint64_t x = a ^ b, sum = x ^ c1;
+            c1 = (a & b) | (c1 & x);
+            uint64_t K = bit_of(v, k) ? ~(uint64_t)0 : 0;
+            uint64_t y = sum ^ K;
+            dst[QEE_LANES * k + h] = y ^ c2;
+            c2 = (sum & K) | (c2 & y);
+        }
+    }
+}
+
+/* One step of all chains: acc += D; D += K (a constant in every lane). */
+PP_CLONES static void chains_step(uint64_t *acc, uint64_t *D, int64_t K, unsigned bits)
+{
+    v4_t c1[QEE_LANES / VW], c2[QEE_LANES / VW];
+    UNROLL
+    for (unsigned v = 0; v < QEE_LANES / VW; v++)
+        c1[v] = c2[v] = splat(0);
+    for (unsigned k = 0; k < bits; k++) {
+        const v4_t kb = splat(bit_of(K, k) ? ~(uint64_t)0 : 0);
+        uint64_t *pa = acc + QEE_LANES * k, *pd = D + QEE_LANES * k;
+        UNROLL
+        for (unsigned v = 0; v < QEE_LANES / VW; v++) {
+            v4_t a = ld(pa + v * VW), d = ld(pd + v * VW);
+            v4_t x = a ^ d;
+            st(pa + v * VW, x ^ c1[v]);
+            c1[v] = (a & d) | (c1[v] & x);
+            v4_t y = d ^ kb;
+            st(pd + v * VW, y ^ c2[v]);
+            c2[v] = (d & kb) | (c2[v] & y);
+        }
+    }
+}
+
+/* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
+ * of all chains yields rows 8t..8t+7, i.e. 16 consecutive plane words.  Going
+ * down 8 rows adds D = Q(x, y+8) - Q(x, y) = 8Bx + C(16y + 64) + 8E, and D
+ * grows by 128C per step.  Everything is exact integer arithmetic done mod
+ * 2^bits, so the low `bits` bits of Q are exact. */
+void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
+                    qee_step_fn emit, void *ctx)
+{
+    uint64_t *acc = scratch;                       /* bits x 16 */
+    uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
+    uint64_t *row0 = D + QEE_LANES * bits;         /* bits x 2 */
+    uint64_t *col = row0 + 2 * bits;               /* bits x 2: planes of B x */
     int64_t v[128];
     for (unsigned i = 0; i < 128; i++)
         v[i] = qee_value(q, x0 + (int)i, y0);
-    lanes_to_planes(v, bits, row);
+    lanes_to_planes(v, bits, row0);
     for (unsigned i = 0; i < 128; i++)
         v[i] = (int64_t)q->B * (x0 + (int)i);
-    lanes_to_planes(v, bits, colpart);
-    emit(ctx, 0, row);
-    for (unsigned j = 1; j < 128; j++) {
-        int64_t y = (int64_t)y0 + j - 1;
-        row_step(row, colpart, (int64_t)q->C * (2 * y + 1) + q->E, bits);
-        emit(ctx, j, row);
+    lanes_to_planes(v, bits, col);
+    for (unsigned k = 0; k < bits; k++) {
+        acc[QEE_LANES * k] = row0[2 * k];
+        acc[QEE_LANES * k + 1] = row0[2 * k + 1];
+    }
+    /* Chain c starts at row c: one row down adds Bx + C(2y + 1) + E. */
+    for (unsigned c = 1; c < QEE_CHAINS; c++) {
+        int64_t y = (int64_t)y0 + c - 1;
+        lane_add(acc + 2 * c, acc + 2 * (c - 1), col, 0, (int64_t)q->C * (2 * y + 1) + q->E, bits);
+    }
+    /* D of chain c at its first row y0 + c: 8Bx (col shifted by 3 planes) + constant. */
+    for (unsigned k = 0; k < bits; k++)
+        for (unsigned h = 0; h < QEE_LANES; h++)
+            D[QEE_LANES * k + h] = 0;
+    for (unsigned c = 0; c < QEE_CHAINS; c++) {
+        int64_t y = (int64_t)y0 + c;
+        lane_add(D + 2 * c, D + 2 * c, col, 3, (int64_t)q->C * (16 * y + 64) + 8 * (int64_t)q->E,
+                 bits);
+    }
+    for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
+        emit(ctx, t, acc);
+        if (t + 1 < 128 / QEE_CHAINS)
+            chains_step(acc, D, 128 * (int64_t)q->C, bits);
     }
 }
