@@ -323,14 +323,14 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     memcpy(bytes0, m->ring.bytes_sent, sizeof bytes0);
     pp5_status_t st = host_start_frame(&m->host, m->n_gp, m->n_frames, start);
     if (st != PP5_OK) {
-        *stop = SCHED_ERROR;
+        *stop = SCHED_STOP_ERROR;
         return st;
     }
     st = sched_run_budget(&m->sched, budget_end, stop);
     /* Last activity of any unit (events end at deliveries; GPs and renderers
      * may stay busy after their last event). */
     pp5_tick_t end = machine_last_activity(m);
-    if (*stop == SCHED_BUDGET_EXCEEDED) {
+    if (*stop == SCHED_STOP_BUDGET_EXCEEDED) {
         end = budget_end;
     }
     if (m->n_frames < MACHINE_MAX_FRAMES) {

@@ -26,7 +26,7 @@
 #include "params.h"
 #include "renderer_node.h"
 #include "ring.h"
-#include "sched.h"
+#include "pp5_sched.h"
 #include "timeline.h"
 
 #define MACHINE_MAX_FRAMES 64

@@ -32,7 +32,7 @@
 #include <stdint.h>
 #include "pp5_time.h"
 #include "ring_msg.h"
-#include "sched.h"
+#include "pp5_sched.h"
 
 /* Arbitration runs after deliveries and before unit work at one instant. */
 #define RING_PRIO_ARBITRATE 15

@@ -91,7 +91,7 @@ TEST(machine_test_pattern_matches_native_reference_small)
     sched_stop_t why;
     pp5_status_t st = run_pattern(&m, &p, &why);
     REQUIRE_MSG(st == PP5_OK, "run failed: %s", pp5_error_text());
-    CHECK_EQ(why, SCHED_IDLE);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
     CHECK_EQ(m.fb.blocks_received, 6);
     CHECK_EQ(count_mismatches(&m), 0);
     /* Conservation: every byte sent was delivered, per class. */
@@ -176,7 +176,7 @@ TEST(machine_budget_exceeded_names_busy_units)
     sched_stop_t why;
     pp5_status_t st = run_pattern(&m, &p, &why);
     CHECK_EQ(st, PP5_E_RANGE);
-    CHECK_EQ(why, SCHED_BUDGET_EXCEEDED);
+    CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "budget") != NULL);
     CHECK(strstr(pp5_error_text(), "renderer") != NULL || strstr(pp5_error_text(), "GP") != NULL ||
           strstr(pp5_error_text(), "ring") != NULL);
@@ -364,7 +364,7 @@ TEST(machine_illegal_instruction_stream_is_a_firmware_error)
     REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
     pp5_status_t st = machine_run_frame(&m, &why);
     CHECK_EQ(st, PP5_E_FIRMWARE);
-    CHECK_EQ(why, SCHED_FIRMWARE_ERROR);
+    CHECK_EQ(why, SCHED_STOP_FIRMWARE_ERROR);
     CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
     machine_free(&m);
 }
