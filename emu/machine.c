@@ -198,6 +198,12 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
         }
     }
     st = fb_init(&m->fb, p->fb_width, p->fb_height, p->fb_double_buffered != 0);
+    if (st == PP5_OK && p->sim_host_threads > 1 && m->n_rn > 1) {
+        /* The scheduler thread also runs functional steps when it has to
+         * wait, so host_threads - 1 workers. */
+        st = rpool_start(&m->pool, m->rn, m->n_rn, p->sim_host_threads - 1);
+        m->pool_running = st == PP5_OK;
+    }
     if (st != PP5_OK) {
         machine_free(m);
         return st;
@@ -207,6 +213,10 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
 
 void machine_free(machine_t *m)
 {
+    if (m->pool_running) {
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     if (m->gp) {
         for (unsigned i = 0; i < m->n_gp; i++) {
             gp_free(&m->gp[i]);
@@ -297,6 +307,10 @@ pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
     pp5_tick_t start = m->sched.now;
     pp5_tick_t budget_end = start + (pp5_tick_t)(m->params.sim_budget_s * 1e12);
     pp5_status_t st = sched_run_budget(&m->sched, budget_end, stop);
+    if (st != PP5_OK && m->pool_running) {
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     pp5_tick_t end = machine_last_activity(m);
     m->setup_ps += end - start;
     for (unsigned i = 0; i < m->n_gp; i++) {
@@ -348,5 +362,11 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     }
     m->sched.now = end > m->sched.now ? end : m->sched.now;
     fb_end_frame(&m->fb);
+    if (st != PP5_OK && m->pool_running) {
+        /* Workers may still be running commands of the aborted frame: stop
+         * them before anyone reads renderer statistics. */
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     return st;
 }

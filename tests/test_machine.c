@@ -368,3 +368,60 @@ TEST(machine_illegal_instruction_stream_is_a_firmware_error)
     CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
     machine_free(&m);
 }
+
+/* Host threads run the renderers' functional steps; nothing may change. */
+TEST(machine_results_identical_for_1_2_and_4_host_threads)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 4;
+    p.n_renderers = 6;
+    p.fb_width = 512;
+    p.fb_height = 384;          /* 12 regions over 6 renderers */
+    machine_t ref;
+    sched_stop_t why;
+    REQUIRE(run_pattern(&ref, &p, &why) == PP5_OK);
+    CHECK_EQ(count_mismatches(&ref), 0);
+    unsigned counts[] = { 2, 4 };
+    for (size_t k = 0; k < 2; k++) {
+        p.sim_host_threads = counts[k];
+        machine_t m;
+        REQUIRE(run_pattern(&m, &p, &why) == PP5_OK);
+        CHECK(m.pool_running);
+        CHECK_EQ(m.frames[0].end_ps - m.frames[0].start_ps, ref.frames[0].end_ps - ref.frames[0].start_ps);
+        CHECK_EQ(m.sched.events_run, ref.sched.events_run);
+        int same = 1;
+        for (unsigned i = 0; i < m.n_rn; i++) {
+            same &= m.rn[i].cycles == ref.rn[i].cycles && m.rn[i].busy_ps == ref.rn[i].busy_ps &&
+                    m.rn[i].r.stats.instructions == ref.rn[i].r.stats.instructions;
+        }
+        for (unsigned c = 0; c < m.ring.n_channels; c++) {
+            same &= m.ring.ch[c].busy_ticks == ref.ring.ch[c].busy_ticks && m.ring.ch[c].bytes == ref.ring.ch[c].bytes;
+        }
+        CHECK_MSG(same, "%u threads: cycle or ring counters differ", counts[k]);
+        CHECK(memcmp(fb_front(&m.fb)->pixels, fb_front(&ref.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
+        machine_free(&m);
+    }
+    machine_free(&ref);
+}
+
+TEST(machine_threaded_firmware_error_stops_cleanly)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 2;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    p.sim_host_threads = 3;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_all(&m, &bad_exec_prog) == PP5_OK);
+    sched_stop_t why;
+    REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
+    pp5_status_t st = machine_run_frame(&m, &why);
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
+    CHECK(!m.pool_running);
+    machine_free(&m);
+}
