@@ -1,0 +1,124 @@
+/* fw_api.h: the narrow firmware API: everything a GP program may do.
+ *
+ * GP programs (firmware/) are compiled with -Iemu/api -Ifirmware only, so this
+ * header, ring_msg.h and pp_encode.h are all they can see (STYLE L2): a program
+ * cannot touch a renderer's pixel memory except by sending ring messages.
+ *
+ * Execution model.  A program is a set of callbacks that run to completion:
+ * on_start once after the host has loaded the GP (HOST_LOAD arrived), and
+ * on_message for every ring message addressed to this GP.  Native C does the
+ * work; the program CHARGES it with the operations it really performed
+ * (fw_ops_t counts, most easily via the counting helpers fw_fadd, fw_fmul, ...)
+ * and fw_charge() converts them into i860 cycles with the cited cost table
+ * (emu/gp_cost.h).  The GP's local clock advances by those cycles; a message
+ * sent with fw_send() leaves at the GP's local time at the moment of the call.
+ * A frame begins for the program when the host's FRAME_START message
+ * (args[0] = frame number) reaches on_message.
+ *
+ * Memory.  fw_alloc() takes bytes from the GP's local memory, whose capacity
+ * is the parameter gp.local_mem_bytes ([U], facts §2).  Past the capacity it
+ * returns NULL and records a firmware error: the run stops with
+ * PP5_E_FIRMWARE, never a silent success.  Memory is zeroed.
+ *
+ * Errors.  Callbacks return FW_OK or an error made by fw_fail(), which stops
+ * the machine with that message (stop reason FIRMWARE_ERROR). */
+#ifndef PP5_FW_API_H
+#define PP5_FW_API_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "ring_msg.h"
+
+typedef int fw_status_t;
+#define FW_OK 0
+#define FW_ERROR (-1)
+
+typedef struct gp gp_t;     /* opaque to firmware: one graphics processor */
+
+/* Operation counts of a piece of work.  Single-precision FP unless named
+ * otherwise; loads/stores are to the D-cache; ext_bytes are bytes moved over
+ * the i860's external bus (cache misses, streaming data). */
+typedef struct {
+    uint64_t fadd;       /* FP add/subtract/compare (adder pipeline) */
+    uint64_t fmul;       /* FP multiply (multiplier pipeline) */
+    uint64_t fdiv;       /* FP divide: no i860 instruction, reciprocal + Newton */
+    uint64_t fsqrt;      /* FP square root: reciprocal sqrt + Newton */
+    uint64_t loads;      /* integer or FP loads */
+    uint64_t stores;     /* integer or FP stores */
+    uint64_t int_ops;    /* integer ALU, shifts, address arithmetic, moves */
+    uint64_t branches;   /* taken or not-taken branches, calls, returns */
+    uint64_t ext_bytes;  /* bytes over the external bus */
+} fw_ops_t;
+
+/* What a program may know about the machine it runs on. */
+typedef struct {
+    unsigned n_gp;
+    unsigned n_renderers;
+    unsigned screen_width, screen_height;   /* frame buffer pixels */
+    unsigned region_width, region_height;   /* one renderer's PP array (128 x 128) */
+    unsigned pp_mem_bits;                   /* bits of pixel memory per PP (208) */
+    uint64_t local_mem_bytes;               /* this GP's memory capacity */
+} fw_machine_info_t;
+
+typedef struct {
+    const char *name;
+    /* Stand-in size of the program's i860 binary, loaded by the host over
+     * the ring and counted against local memory ([U]: native C has no i860
+     * image; the program states a plausible size). */
+    size_t image_bytes;
+    fw_status_t (*on_start)(gp_t *gp);
+    fw_status_t (*on_message)(gp_t *gp, const ring_msg_t *msg);
+} fw_program_t;
+
+/* Identity and machine facts. */
+unsigned fw_gp_index(const gp_t *gp);
+const fw_machine_info_t *fw_machine_info(const gp_t *gp);
+
+/* The data block the host loaded for this GP (may be empty). */
+const void *fw_host_data(const gp_t *gp, size_t *bytes);
+
+/* Per-GP program state: a pointer the program keeps between callbacks
+ * (normally memory from fw_alloc). */
+void fw_set_state(gp_t *gp, void *state);
+void *fw_state(const gp_t *gp);
+
+/* Local memory (see above). fw_free returns the bytes to the pool. */
+void *fw_alloc(gp_t *gp, size_t bytes);
+void fw_free(gp_t *gp, void *p);
+uint64_t fw_mem_used_bytes(const gp_t *gp);
+
+/* Charge work: the GP's local clock advances by gp_cost_cycles(ops). */
+void fw_charge(gp_t *gp, const fw_ops_t *ops);
+/* The GP's local clock in i860 cycles since power-on, and in picoseconds. */
+uint64_t fw_cycles(const gp_t *gp);
+uint64_t fw_time_ps(const gp_t *gp);
+
+/* Send a message over the ring at the GP's current local time.  The payload
+ * is copied.  The traffic class is chosen from kind and destination
+ * (commands to renderers, pixels to the FB, GP_USER to GPs...). */
+fw_status_t fw_send(gp_t *gp, ring_addr_t dst, uint32_t kind,
+                    const uint32_t args[RING_MSG_ARGS],
+                    const void *payload, size_t payload_bytes);
+
+/* Record a firmware error (printf-style) and return FW_ERROR. */
+fw_status_t fw_fail(gp_t *gp, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Counting helpers: do the operation AND count it, so charged work is the
+ * work actually performed. */
+static inline float fw_fadd(fw_ops_t *o, float a, float b) { o->fadd++; return a + b; }
+static inline float fw_fsub(fw_ops_t *o, float a, float b) { o->fadd++; return a - b; }
+static inline float fw_fmul(fw_ops_t *o, float a, float b) { o->fmul++; return a * b; }
+static inline float fw_fdiv(fw_ops_t *o, float a, float b) { o->fdiv++; return a / b; }
+static inline float fw_fload(fw_ops_t *o, const float *p) { o->loads++; return *p; }
+static inline void fw_fstore(fw_ops_t *o, float *p, float v) { o->stores++; *p = v; }
+static inline int32_t fw_iload(fw_ops_t *o, const int32_t *p) { o->loads++; return *p; }
+static inline void fw_istore(fw_ops_t *o, int32_t *p, int32_t v) { o->stores++; *p = v; }
+static inline int32_t fw_iadd(fw_ops_t *o, int32_t a, int32_t b)
+{
+    o->int_ops++;
+    return (int32_t)((uint32_t)a + (uint32_t)b);   /* wraps like the i860 */
+}
+static inline void fw_int(fw_ops_t *o, uint64_t n) { o->int_ops += n; }
+static inline void fw_branch(fw_ops_t *o) { o->branches++; }
+
+#endif

@@ -1,0 +1,146 @@
+/* fw_api.c: the firmware API (emu/api/fw_api.h) on top of gp_t: memory, charging, sends, errors. */
+#include "gp.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+
+/* ---- local memory ---- */
+
+void gp_record_error(gp_t *gp, const char *fmt, ...)
+{
+    if (gp->fw_error) {
+        return;                   /* keep the first error */
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(gp->error, sizeof gp->error, fmt, ap);
+    va_end(ap);
+    gp->fw_error = true;
+}
+
+void *fw_alloc(gp_t *gp, size_t bytes)
+{
+    if (bytes > gp->mem_capacity_bytes - gp->mem_used_bytes) {
+        gp_record_error(gp, "fw_alloc(%zu bytes) exceeds local memory: %llu of %llu bytes in use "
+                        "(parameter gp.local_mem_bytes)", bytes,
+                        (unsigned long long)gp->mem_used_bytes, (unsigned long long)gp->mem_capacity_bytes);
+        return NULL;
+    }
+    gp_block_t *b = calloc(1, sizeof *b + (bytes ? bytes : 1));
+    if (!b) {
+        gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
+        return NULL;
+    }
+    b->bytes = bytes;
+    b->next = gp->blocks;
+    if (gp->blocks) {
+        gp->blocks->prev = b;
+    }
+    gp->blocks = b;
+    gp->mem_used_bytes += bytes;
+    if (gp->mem_used_bytes > gp->mem_peak_bytes) {
+        gp->mem_peak_bytes = gp->mem_used_bytes;
+    }
+    return b->align;
+}
+
+void fw_free(gp_t *gp, void *p)
+{
+    if (!p) {
+        return;
+    }
+    gp_block_t *b = (gp_block_t *)((char *)p - offsetof(gp_block_t, align));
+    if (b->prev) {
+        b->prev->next = b->next;
+    } else {
+        gp->blocks = b->next;
+    }
+    if (b->next) {
+        b->next->prev = b->prev;
+    }
+    gp->mem_used_bytes -= b->bytes;
+    free(b);
+}
+
+uint64_t fw_mem_used_bytes(const gp_t *gp) { return gp->mem_used_bytes; }
+
+/* ---- the firmware API (declared in fw_api.h) ---- */
+
+unsigned fw_gp_index(const gp_t *gp) { return gp->index; }
+const fw_machine_info_t *fw_machine_info(const gp_t *gp) { return &gp->info; }
+
+const void *fw_host_data(const gp_t *gp, size_t *bytes)
+{
+    *bytes = gp->host_data_bytes;
+    return gp->host_data;
+}
+
+void fw_set_state(gp_t *gp, void *state) { gp->state = state; }
+void *fw_state(const gp_t *gp) { return gp->state; }
+
+void fw_charge(gp_t *gp, const fw_ops_t *ops)
+{
+    gp_charge_cycles(gp, gp_cost_cycles(&gp->cost, ops));
+    gp_cost_add(&gp->ops_total, ops);
+}
+
+uint64_t fw_cycles(const gp_t *gp) { return gp->local_ps / gp->period_ps; }
+uint64_t fw_time_ps(const gp_t *gp) { return gp->local_ps; }
+
+static uint32_t gp_class_for(ring_addr_t dst, uint32_t kind)
+{
+    switch (dst.type) {
+    case RING_NODE_RENDERER:
+        return (kind == RING_MSG_RENDERER_WRITE_FIELD || kind == RING_MSG_RENDERER_WRITE_BS)
+                   ? RING_CLASS_DATA : RING_CLASS_COMMAND;
+    case RING_NODE_FB: return RING_CLASS_PIXELS;
+    case RING_NODE_GP: return RING_CLASS_GP;
+    default: return RING_CLASS_DATA;
+    }
+}
+
+fw_status_t fw_send(gp_t *gp, ring_addr_t dst, uint32_t kind, const uint32_t args[RING_MSG_ARGS],
+                    const void *payload, size_t payload_bytes)
+{
+    if (gp->fw_error) {
+        return FW_ERROR;
+    }
+    if (payload_bytes > 0 && !payload) {
+        return fw_fail(gp, "fw_send: %zu payload bytes but no payload", payload_bytes);
+    }
+    ring_msg_t m;
+    memset(&m, 0, sizeof m);
+    m.src = ring_addr(RING_NODE_GP, gp->index);
+    m.dst = dst;
+    m.kind = kind;
+    m.cls = gp_class_for(dst, kind);
+    if (args) {
+        memcpy(m.args, args, sizeof m.args);
+    }
+    m.payload = payload;
+    m.payload_bytes = payload_bytes;
+    gp_charge_cycles(gp, gp->send_cycles);   /* [U] gp.send_cycles */
+    pp5_status_t st = gp->send(gp->send_ctx, gp, &m, gp->local_ps);
+    if (st != PP5_OK) {
+        return fw_fail(gp, "%s", pp5_error_text());
+    }
+    gp->msgs_sent++;
+    gp->bytes_sent += payload_bytes;
+    return FW_OK;
+}
+
+fw_status_t fw_fail(gp_t *gp, const char *fmt, ...)
+{
+    if (!gp->fw_error) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(gp->error, sizeof gp->error, fmt, ap);
+        va_end(ap);
+        gp->fw_error = true;
+    }
+    return FW_ERROR;
+}
+

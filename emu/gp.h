@@ -1,0 +1,94 @@
+/* gp.h: one graphics processor (Intel i860): program callbacks, local clock, local memory, ring port.
+ *
+ * A GP runs firmware (fw_program_t, see emu/api/fw_api.h) as run-to-
+ * completion callbacks.  Its local clock (local_ps) advances by the cycles
+ * the program charges (gp_cost) plus gp.send_cycles per message posted;
+ * between callbacks it is idle.  Incoming messages wait in an inbox (FIFO)
+ * and are handled one callback each, at max(arrival, local clock).
+ * HOST_LOAD is handled by the GP itself: it reserves the program image and
+ * copies the data into local memory, then runs on_start.
+ *
+ * Modelled: i860 time from counted operations, local memory capacity, message
+ * order, busy/idle time.  Not modelled: the i860 instruction stream itself,
+ * caches beyond declared ext_bytes, interrupts/OS overhead, DMA engines. */
+#ifndef PP5_GP_H
+#define PP5_GP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "fw_api.h"
+#include "gp_cost.h"
+#include "pp5_time.h"
+#include "pp5_sched.h"
+
+typedef pp5_status_t (*gp_send_fn)(void *ctx, gp_t *gp, const ring_msg_t *msg, pp5_tick_t t);
+/* Observer of busy spans (timeline): [start, end) running callback `what`. */
+typedef void (*gp_trace_fn)(void *ctx, const gp_t *gp, const char *what, pp5_tick_t start,
+                            pp5_tick_t end);
+
+/* A local-memory allocation: header + the bytes (fw_api.c). */
+typedef struct gp_block gp_block_t;
+struct gp_block {
+    gp_block_t *next, *prev;
+    size_t bytes;
+    max_align_t align[];          /* user memory follows, suitably aligned */
+};
+
+
+typedef struct {
+    ring_msg_t msg;       /* payload points at `payload_copy` */
+    void *payload_copy;
+} gp_inbox_item_t;
+
+struct gp {
+    unsigned index;
+    const fw_program_t *prog;
+    fw_machine_info_t info;
+    gp_cost_t cost;
+    pp5_tick_t period_ps;
+    uint32_t send_cycles;
+
+    pp5_tick_t local_ps;          /* the GP's clock */
+    pp5_tick_t busy_ps;
+    uint64_t busy_cycles;
+    pp5_tick_t setup_busy_ps;     /* part of busy_ps spent in machine_run_setup */
+    uint64_t setup_busy_cycles;
+    fw_ops_t ops_total;
+
+    uint64_t mem_capacity_bytes, mem_used_bytes, mem_peak_bytes;
+    gp_block_t *blocks;           /* every live allocation, freed at gp_free */
+    void *state;
+    const void *host_data;
+    size_t host_data_bytes;
+    bool loaded, started;
+
+    gp_inbox_item_t *inbox;       /* ring buffer */
+    size_t inbox_head, inbox_count, inbox_cap;
+    bool run_scheduled;
+
+    uint64_t msgs_sent, msgs_received, bytes_sent;
+    bool fw_error;
+    char error[256];
+
+    sched_t *sched;
+    gp_send_fn send;
+    void *send_ctx;
+    gp_trace_fn trace;
+    void *trace_ctx;
+};
+
+pp5_status_t gp_init(gp_t *gp, unsigned index, const pp5_params_t *p, const fw_machine_info_t *info,
+                     sched_t *sched, gp_send_fn send, void *send_ctx);
+void gp_free(gp_t *gp);
+void gp_set_program(gp_t *gp, const fw_program_t *prog);
+/* A ring message for this GP arrived at `now`. */
+pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now);
+/* Charge raw cycles (used by the firmware API for sends). */
+void gp_charge_cycles(gp_t *gp, uint64_t cycles);
+bool gp_busy(const gp_t *gp, pp5_tick_t now);
+/* Record the first firmware error of this GP (the run stops at the end of
+ * the current callback). */
+void gp_record_error(gp_t *gp, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+#endif

@@ -1,0 +1,166 @@
+/* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
+#include "qee.h"
+
+#include <stdlib.h>
+
+#include "pp_simd.h"
+
+bool qee_origin_ok(int x0, int y0)
+{
+    return abs(x0) <= QEE_COORD_MAX - 127 && abs(y0) <= QEE_COORD_MAX - 127;
+}
+
+/* Each term is below 2^31 * 2^26 = 2^57 in magnitude and there are six, so the
+ * sum is exact in int64 (qee.h). */
+int64_t qee_value(const qee_coeffs_t *q, int x, int y)
+{
+    int64_t X = x, Y = y;
+    return (int64_t)q->A * X * X + (int64_t)q->B * X * Y + (int64_t)q->C * Y * Y +
+           (int64_t)q->D * X + (int64_t)q->E * Y + (int64_t)q->F;
+}
+
+void qee_serial_start(qee_serial_t *s, const qee_coeffs_t *q, int x, int y)
+{
+    int64_t X = x, Y = y;
+    s->term[0] = (int64_t)q->A * X * X;
+    s->term[1] = (int64_t)q->B * X * Y;
+    s->term[2] = (int64_t)q->C * Y * Y;
+    s->term[3] = (int64_t)q->D * X;
+    s->term[4] = (int64_t)q->E * Y;
+    s->term[5] = (int64_t)q->F;
+    s->carry = 0;
+    s->k = 0;
+}
+
+/* Bit k of a two's-complement int64 extended to infinite width. */
+static unsigned bit_of(int64_t v, unsigned k)
+{
+    uint64_t u = (uint64_t)v;
+    return k < 64 ? (unsigned)(u >> k) & 1u : (unsigned)(u >> 63);
+}
+
+unsigned qee_serial_next_bit(qee_serial_t *s)
+{
+    unsigned sum = s->carry;
+    for (int t = 0; t < 6; t++)
+        sum += bit_of(s->term[t], s->k);
+    s->carry = sum >> 1;
+    s->k++;
+    return sum & 1u;
+}
+
+/* In-place transpose of a 64x64 bit matrix (bit c of word r <-> bit r of word c)
+ * by swapping ever smaller blocks: 6 stages x 32 word pairs. */
+static void transpose64(uint64_t a[64])
+{
+    uint64_t m = 0x00000000FFFFFFFFull;
+    for (unsigned j = 32; j != 0; j >>= 1, m ^= m << j) {
+        for (unsigned k = 0; k < 64; k = ((k | j) + 1) & ~j) {
+            uint64_t t = ((a[k] >> j) ^ a[k | j]) & m;
+            a[k] ^= t << j;
+            a[k | j] ^= t;
+        }
+    }
+}
+
+/* Planes (2 words each) of 128 int64 lane values; planes 64 and up repeat the
+ * sign plane (two's complement extended to `bits`). */
+static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
+{
+    for (unsigned h = 0; h < 2; h++) {
+        uint64_t t[64];
+        for (unsigned i = 0; i < 64; i++)
+            t[i] = (uint64_t)v[64 * h + i];
+        transpose64(t);
+        for (unsigned k = 0; k < bits; k++)
+            planes[2 * k + h] = t[k < 64 ? k : 63];
+    }
+}
+
+/* Scalar bit-sliced add over the 2-word lanes of one row (initialisation):
+ * dst(stride 16) = src(stride 16) + addend planes (2 words, shifted up by `shl`
+ * planes, i.e. multiplied by 2^shl) + constant v. */
+static void lane_add(uint64_t *dst, const uint64_t *src, const uint64_t *addend, unsigned shl,
+                     int64_t v, unsigned bits)
+{
+    for (unsigned h = 0; h < 2; h++) {
+        uint64_t c1 = 0, c2 = 0;
+        for (unsigned k = 0; k < bits; k++) {
+            uint64_t a = src[QEE_LANES * k + h];
+            uint64_t b = k >= shl ? addend[2 * (k - shl) + h] : 0;
+            uint64_t x = a ^ b, sum = x ^ c1;
+            c1 = (a & b) | (c1 & x);
+            uint64_t K = bit_of(v, k) ? ~(uint64_t)0 : 0;
+            uint64_t y = sum ^ K;
+            dst[QEE_LANES * k + h] = y ^ c2;
+            c2 = (sum & K) | (c2 & y);
+        }
+    }
+}
+
+/* One step of all chains: acc += D; D += K (a constant in every lane). */
+PP_CLONES static void chains_step(uint64_t *acc, uint64_t *D, int64_t K, unsigned bits)
+{
+    v4_t c1[QEE_LANES / VW], c2[QEE_LANES / VW];
+    UNROLL
+    for (unsigned v = 0; v < QEE_LANES / VW; v++)
+        c1[v] = c2[v] = splat(0);
+    for (unsigned k = 0; k < bits; k++) {
+        const v4_t kb = splat(bit_of(K, k) ? ~(uint64_t)0 : 0);
+        uint64_t *pa = acc + QEE_LANES * k, *pd = D + QEE_LANES * k;
+        UNROLL
+        for (unsigned v = 0; v < QEE_LANES / VW; v++) {
+            v4_t a = ld(pa + v * VW), d = ld(pd + v * VW);
+            v4_t x = a ^ d;
+            st(pa + v * VW, x ^ c1[v]);
+            c1[v] = (a & d) | (c1[v] & x);
+            v4_t y = d ^ kb;
+            st(pd + v * VW, y ^ c2[v]);
+            c2[v] = (d & kb) | (c2[v] & y);
+        }
+    }
+}
+
+/* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
+ * of all chains yields rows 8t..8t+7, i.e. 16 consecutive plane words.  Going
+ * down 8 rows adds D = Q(x, y+8) - Q(x, y) = 8Bx + C(16y + 64) + 8E, and D
+ * grows by 128C per step.  Everything is exact integer arithmetic done mod
+ * 2^bits, so the low `bits` bits of Q are exact. */
+void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
+                    qee_step_fn emit, void *ctx)
+{
+    uint64_t *acc = scratch;                       /* bits x 16 */
+    uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
+    uint64_t *row0 = D + QEE_LANES * bits;         /* bits x 2 */
+    uint64_t *col = row0 + 2 * bits;               /* bits x 2: planes of B x */
+    int64_t v[128];
+    for (unsigned i = 0; i < 128; i++)
+        v[i] = qee_value(q, x0 + (int)i, y0);
+    lanes_to_planes(v, bits, row0);
+    for (unsigned i = 0; i < 128; i++)
+        v[i] = (int64_t)q->B * (x0 + (int)i);
+    lanes_to_planes(v, bits, col);
+    for (unsigned k = 0; k < bits; k++) {
+        acc[QEE_LANES * k] = row0[2 * k];
+        acc[QEE_LANES * k + 1] = row0[2 * k + 1];
+    }
+    /* Chain c starts at row c: one row down adds Bx + C(2y + 1) + E. */
+    for (unsigned c = 1; c < QEE_CHAINS; c++) {
+        int64_t y = (int64_t)y0 + c - 1;
+        lane_add(acc + 2 * c, acc + 2 * (c - 1), col, 0, (int64_t)q->C * (2 * y + 1) + q->E, bits);
+    }
+    /* D of chain c at its first row y0 + c: 8Bx (col shifted by 3 planes) + constant. */
+    for (unsigned k = 0; k < bits; k++)
+        for (unsigned h = 0; h < QEE_LANES; h++)
+            D[QEE_LANES * k + h] = 0;
+    for (unsigned c = 0; c < QEE_CHAINS; c++) {
+        int64_t y = (int64_t)y0 + c;
+        lane_add(D + 2 * c, D + 2 * c, col, 3, (int64_t)q->C * (16 * y + 64) + 8 * (int64_t)q->E,
+                 bits);
+    }
+    for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
+        emit(ctx, t, acc);
+        if (t + 1 < 128 / QEE_CHAINS)
+            chains_step(acc, D, 128 * (int64_t)q->C, bits);
+    }
+}

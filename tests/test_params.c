@@ -1,0 +1,134 @@
+/* test_params.c: parameter defaults, presets, --set/--config validation naming the parameter. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "harness.h"
+#include "params.h"
+
+static int contains(const char *s, const char *sub) { return strstr(s, sub) != NULL; }
+
+TEST(params_defaults_follow_the_facts_sheet)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    CHECK_EQ(p.n_gp, 16);
+    CHECK_EQ(p.n_renderers, 16);
+    CHECK_EQ(p.gp_clock_hz, 40e6);
+    CHECK_EQ(p.renderer_clock_hz, 40e6);
+    CHECK_EQ(p.ring_channels, 8);
+    CHECK_EQ(p.fb_width, 1280);
+    CHECK_EQ(p.fb_height, 1024);
+    /* 8 x 32 bit x 20 MHz = 640 MB/s = 5.12 Gb/s (facts §5.2). */
+    CHECK_NEAR(pp5_params_ring_aggregate_bytes_per_s(&p), 640e6, 1e-3);
+    CHECK(pp5_params_validate(&p) == PP5_OK);
+}
+
+TEST(params_gaze_literal_preset_is_80_megabytes_per_second)
+{
+    pp5_params_t p;
+    REQUIRE(pp5_params_preset(&p, "gaze1990-literal") == PP5_OK);
+    CHECK_NEAR(pp5_params_ring_aggregate_bytes_per_s(&p), 80e6, 1e-3);
+    CHECK(pp5_params_preset(&p, "nonsense") == PP5_E_CONFIG);
+}
+
+TEST(params_every_row_is_cited_and_its_default_in_range)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    int ok = 1;
+    for (size_t i = 0; i < params_count(); i++) {
+        const param_info_t *r = params_info(i);
+        double v = params_get(&p, r);
+        ok &= v >= r->min && v <= r->max;
+        ok &= r->citation && strlen(r->citation) > 3 && r->unit && r->description;
+        /* names are unique */
+        ok &= params_find(r->name) == r;
+    }
+    CHECK(ok);
+    CHECK(params_count() >= 20);
+}
+
+TEST(params_set_rejects_bad_values_naming_the_parameter)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    pp5_params_t before = p;
+    CHECK(pp5_params_set_kv(&p, "ring.channels=0") == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), "ring.channels") && contains(pp5_error_text(), "'0'") &&
+          contains(pp5_error_text(), "1..64"));
+    CHECK(pp5_params_set_kv(&p, "gp.count=33") == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), "gp.count") && contains(pp5_error_text(), "33"));
+    CHECK(pp5_params_set_kv(&p, "gp.clock_hz=fast") == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), "not a number"));
+    CHECK(pp5_params_set_kv(&p, "gp.count=2.5") == PP5_E_CONFIG);
+    CHECK(pp5_params_set_kv(&p, "ring.clock_hz=nan") == PP5_E_CONFIG);
+    CHECK(pp5_params_set_kv(&p, "ring.width_bits=12") == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), "multiple of 8"));
+    CHECK(pp5_params_set_kv(&p, "fb.width=1000") == PP5_E_CONFIG);
+    CHECK(pp5_params_set_kv(&p, "no.such=1") == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), "no.such"));
+    CHECK(memcmp(&p, &before, sizeof p) == 0);   /* nothing committed */
+    CHECK(pp5_params_set_kv(&p, "ring.channels = 4") == PP5_OK);
+    CHECK_EQ(p.ring_channels, 4);
+}
+
+TEST(params_config_file_is_all_or_nothing)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/m.cfg", pp5_test_outdir());
+    FILE *f = fopen(path, "w");
+    REQUIRE(f != NULL);
+    fprintf(f, "# a comment\n\nring.channels = 2   # two channels\ngp.count = 4\n");
+    fclose(f);
+    pp5_params_t p;
+    pp5_params_default(&p);
+    REQUIRE(pp5_params_load_config(&p, path) == PP5_OK);
+    CHECK_EQ(p.ring_channels, 2);
+    CHECK_EQ(p.n_gp, 4);
+
+    f = fopen(path, "w");
+    REQUIRE(f != NULL);
+    fprintf(f, "ring.channels = 3\nrenderer.clock_hz = -5\n");
+    fclose(f);
+    pp5_params_default(&p);
+    CHECK(pp5_params_load_config(&p, path) == PP5_E_CONFIG);
+    CHECK(contains(pp5_error_text(), ":2:") && contains(pp5_error_text(), "renderer.clock_hz") &&
+          contains(pp5_error_text(), "-5"));
+    CHECK_EQ(p.ring_channels, 8);   /* line 1 not committed */
+}
+
+TEST(params_dump_reloads_to_the_same_values)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/dump.cfg", pp5_test_outdir());
+    pp5_params_t p, q;
+    pp5_params_default(&p);
+    REQUIRE(pp5_params_set_kv(&p, "ring.clock_hz=33333333.3") == PP5_OK);
+    REQUIRE(pp5_params_set_kv(&p, "gp.count=7") == PP5_OK);
+    FILE *f = fopen(path, "w");
+    REQUIRE(f != NULL);
+    pp5_params_dump(&p, f);
+    fclose(f);
+    pp5_params_default(&q);
+    REQUIRE(pp5_params_load_config(&q, path) == PP5_OK);
+    CHECK(memcmp(&p, &q, sizeof p) == 0);
+}
+
+TEST(params_machine_command_prints_both_ring_bandwidths)
+{
+    char out[512];
+    snprintf(out, sizeof out, "%s/m.txt", pp5_test_outdir());
+    REQUIRE(pp5_test_run_cli("machine", out, NULL) == 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text != NULL);
+    CHECK(contains(text, "ring aggregate bandwidth = 640 MB/s"));
+    CHECK(contains(text, "ring.channels"));
+    free(text);
+    REQUIRE(pp5_test_run_cli("machine --preset gaze1990-literal", out, NULL) == 0);
+    text = pp5_test_read_file(out);
+    REQUIRE(text != NULL);
+    CHECK(contains(text, "ring aggregate bandwidth = 80 MB/s"));
+    free(text);
+    CHECK(pp5_test_run_cli("machine --set ring.channels=99", NULL, NULL) != 0);
+}
