@@ -188,6 +188,7 @@ TEST(hid_eye_feature_reports_and_pixels)
     CHECK_EQ(cfg.quality, 1);
     CHECK_NEAR(cfg.max_screen_w_um, 600000, 1e-6);
     CHECK_NEAR(cfg.max_screen_h_um, 340000, 1e-6);
+    CHECK_NEAR(cfg.optimum_distance_um, 650000, 1e-6);
     CHECK_NEAR(cfg.calibrated_w_um, 527040, 1e-6);
     CHECK_NEAR(cfg.calibrated_h_um, 296460, 1e-6);
     CHECK_NEAR(cfg.sampling_hz, 120, 0);

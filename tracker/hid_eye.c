@@ -99,6 +99,7 @@ pp5_status_t hid_eye_layout_init(hid_eye_layout_t *l, const uint8_t *desc, size_
     l->max_w = find_in(d, HID_REPORT_FEATURE, 0, HID_EYE_USAGE_MAX_SCREEN_W);
     l->max_h = find_in(d, HID_REPORT_FEATURE, 0, HID_EYE_USAGE_MAX_SCREEN_H);
     l->quality = find_in(d, HID_REPORT_FEATURE, 0, HID_EYE_USAGE_QUALITY);
+    l->opt_dist = find_in(d, HID_REPORT_FEATURE, 0, HID_EYE_USAGE_OPT_DISTANCE);
     l->rate_feature = find_in(d, HID_REPORT_FEATURE, 0, HID_EYE_USAGE_SAMPLING_HZ);
     return PP5_OK;
 }
@@ -195,6 +196,9 @@ pp5_status_t hid_eye_parse_feature(const hid_eye_layout_t *l, const uint8_t *rep
     if (l->max_h && hid_field_si_factor(l->max_h, &f) == HID_UNIT_LENGTH &&
         read_scaled(l, l->max_h, f * 1e6, report, len, &v))
         cfg->max_screen_h_um = v;
+    if (l->opt_dist && hid_field_si_factor(l->opt_dist, &f) == HID_UNIT_LENGTH &&
+        read_scaled(l, l->opt_dist, f * 1e6, report, len, &v))
+        cfg->optimum_distance_um = v;
     if (read_scaled(l, l->quality, 1.0, report, len, &v))
         cfg->quality = (int)v;
     if (l->rate_feature && read_scaled(l, l->rate_feature, 1.0, report, len, &v)) {

@@ -40,7 +40,7 @@ enum {
     HID_EYE_USAGE_GAZE_POINT = 0x24,
     HID_EYE_USAGE_LEFT_EYE = 0x25, HID_EYE_USAGE_RIGHT_EYE = 0x26,
     HID_EYE_USAGE_HEAD_POSITION = 0x27,
-    HID_EYE_USAGE_QUALITY = 0x100,
+    HID_EYE_USAGE_QUALITY = 0x100, HID_EYE_USAGE_OPT_DISTANCE = 0x102,
     HID_EYE_USAGE_MAX_SCREEN_W = 0x104, HID_EYE_USAGE_MAX_SCREEN_H = 0x105,
     HID_EYE_USAGE_CALIBRATED_W = 0x204, HID_EYE_USAGE_CALIBRATED_H = 0x205,
     HID_EYE_USAGE_SAMPLING_HZ = 0x300,
@@ -64,7 +64,7 @@ typedef struct {
     double pos_to_um;
     const hid_field_t *cal_w, *cal_h; /* Configuration: calibrated screen size */
     const hid_field_t *max_w, *max_h; /* Capabilities: maximum screen size */
-    const hid_field_t *quality;
+    const hid_field_t *quality, *opt_dist;
     const hid_field_t *rate_feature;  /* Status feature: sampling frequency */
 } hid_eye_layout_t;
 
@@ -82,6 +82,7 @@ typedef struct {
 typedef struct {
     int quality;                  /* Tracker Quality, -1 when absent */
     double max_screen_w_um, max_screen_h_um;  /* 0 when absent */
+    double optimum_distance_um;   /* Optimum Tracking Distance; 0 when absent */
     double calibrated_w_um, calibrated_h_um;  /* 0 when absent: then no pixels */
     double sampling_hz;           /* 0 when unknown */
 } hid_eye_config_t;
