@@ -295,7 +295,7 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
             if (f->error_deg > sum->max_error_deg)
                 sum->max_error_deg = f->error_deg;
         }
-        if (!isnan(f->sample_t_s)) {
+        if (!isnan(f->error_deg)) {        /* gaps between recording blocks excluded */
             lat_sum += f->display_s - f->sample_t_s;
             lat_n++;
         }

@@ -100,7 +100,8 @@ typedef struct {
     double mean_error_deg, p95_error_deg, max_error_deg;
     double frames_per_s;
     double mean_frame_s;
-    double mean_latency_s;         /* display time - time of the sample used */
+    double mean_latency_s;         /* display time - time of the sample used, over the
+                                      frames whose error is measurable */
     uint64_t rays, ring_bytes;
 } replay_summary_t;
 
