@@ -388,8 +388,20 @@ pp5_status_t hid_eye_read(hid_eye_t *d, hid_eye_sample_t *out)
 {
     unsigned bad_in_a_row = 0;
     uint8_t buf[4096];
+    /* Ask for the longest input report the descriptor declares: hidraw
+     * returns one report per read anyway, and a byte-stream transport (the
+     * umockdev pty used in tests) then keeps report boundaries too. */
+    size_t want = 0;
+    for (size_t i = 0; i < d->layout->desc.n_reports; i++) {
+        const hid_report_info_t *r = &d->layout->desc.reports[i];
+        size_t b = hid_desc_report_bytes(&d->layout->desc, r->type, r->report_id);
+        if (r->type == HID_REPORT_INPUT && b > want)
+            want = b;
+    }
+    if (want == 0 || want > sizeof buf)
+        want = sizeof buf;
     for (;;) {
-        int got = hid_read_timeout(d->dev, buf, sizeof buf, d->timeout_ms);
+        int got = hid_read_timeout(d->dev, buf, want, d->timeout_ms);
         if (got < 0) {
             /* hidapi's hidraw backend returns -1 when poll() reports
              * POLLERR/POLLHUP/POLLNVAL or read() fails: the device is gone. */

@@ -259,7 +259,6 @@ pp5_status_t polhemus_open(const char *bus_addr, int timeout_ms, polhemus_t **ou
     if (cnt > 0)
         libusb_free_device_list(list, 1);
     if (st == PP5_OK) {
-        libusb_set_auto_detach_kernel_driver(p->h, 1);
         rc = libusb_claim_interface(p->h, 0);
         if (rc != 0)
             st = usb_fail(p, rc, "claiming interface 0");
