@@ -270,10 +270,13 @@ pp5_status_t import_eyelink(const char *text, size_t len, const char *name,
         } else if ((strcmp(f[0], "EFIX") == 0 || strcmp(f[0], "ESACC") == 0 ||
                     strcmp(f[0], "EBLINK") == 0) && n >= 4) {
             double a, b;
-            if (!import_parse_double(f[2], &a) || !import_parse_double(f[3], &b) || b < a) {
+            if (!import_parse_double(f[2], &a) || !import_parse_double(f[3], &b)) {
                 st = pp5_fail(PP5_E_FORMAT, "%s:%d: bad %s times", name, lineno, f[0]);
                 break;
             }
+            if (b < a)
+                continue;   /* EyeLink I writes empty blinks ("EBLINK R 419788 419784 0"):
+                               they cover no sample */
             int label = f[0][1] == 'F' ? GAZE_LABEL_FIXATION :
                         f[0][1] == 'S' ? GAZE_LABEL_SACCADE : GAZE_LABEL_BLINK;
             st = intervals_add(&ev, a, b, label);
