@@ -162,10 +162,8 @@ bool predict_at(const predictor_t *pr, double t_s, double *x_deg, double *y_deg)
     if (pr->p.kind == PREDICT_NONE)
         vx = vy = 0;
     double speed = sqrt(vx * vx + vy * vy);
-    if (speed > pr->p.max_speed_dps && speed > 0) {
-        vx *= pr->p.max_speed_dps / speed;
-        vy *= pr->p.max_speed_dps / speed;
-    }
+    if (speed > pr->p.max_speed_dps)
+        vx = vy = 0;      /* a saccade in flight: hold, do not extrapolate it */
     *x_deg = pr->x[0] + vx * h;
     *y_deg = pr->x[1] + vy * h;
     return true;

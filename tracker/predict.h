@@ -11,9 +11,12 @@
  *              process noise, with the covariance propagated over irregular dt
  * Every kind resets after a gap (blink, track loss) longer than gap_reset_s,
  * because a velocity from before a blink says nothing about after it.
- * The extrapolated displacement uses a velocity clamped to max_speed_dps: the
- * paper's tracking mode goes "up to 200°/sec" (§6), and extrapolating a saccade
- * (up to ~700°/s) for 100 ms would throw the sweet spot off the screen. */
+ * Saccade gate: when the estimated speed exceeds max_speed_dps the predictor
+ * holds the current position instead of extrapolating: the paper's tracking
+ * mode goes "up to 200°/sec" (§6), and extrapolating a saccade (up to ~700°/s)
+ * for 100 ms would throw the sweet spot off the screen.  (A first version
+ * clamped the speed to max_speed_dps instead; on the recorded traces it gave
+ * larger errors than the gate, see the report in traces/README.md.) */
 #ifndef PP5_PREDICT_H
 #define PP5_PREDICT_H
 
@@ -26,7 +29,7 @@ typedef struct {
     double window_s;         /* linear: velocity baseline (default 0.020 s) */
     double noise_sigma_deg;  /* measurement noise per axis (default 0.03°, gaze-facts §1 noise) */
     double accel_sigma_dps2; /* process noise, acceleration (default 1000 °/s², an assumption) */
-    double max_speed_dps;    /* clamp on the extrapolating velocity (default 200 °/s) */
+    double max_speed_dps;    /* above this speed: hold, do not extrapolate (default 200 °/s) */
     double gap_reset_s;      /* reset after a gap longer than this (default 0.05 s) */
 } predict_params_t;
 
