@@ -46,8 +46,8 @@ row() {   # name, file list
     done
 }
 row "eyelink_sr_samples reading 500Hz" "$G"/eyelink_sr_samples/trace/*Remote500.tsv.gz
-row "eyelink_sr_samples saccade tmpl" "$G"/eyelink_sr_samples/trace/mono*[0-9].tsv.gz \
-    "$G"/eyelink_sr_samples/trace/bino*[0-9].tsv.gz
+row "eyelink_sr_samples saccade tmpl" "$G"/eyelink_sr_samples/trace/mono[0-9]*.tsv.gz \
+    "$G"/eyelink_sr_samples/trace/bino[0-9]*.tsv.gz
 row "gazecom video 250Hz" "$G"/gazecom/trace/*.tsv.gz
 row "lund2013 dots (pursuit) 500Hz" "$G"/lund2013/trace/dots/*.tsv.gz
 row "lund2013 img 500Hz" "$G"/lund2013/trace/img/*.tsv.gz
