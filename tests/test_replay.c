@@ -295,3 +295,51 @@ TEST(replay_cli_writes_csv_and_json)
     snprintf(args, sizeof args, "replay /nonexistent.trace");
     CHECK(pp5_test_run_cli(args, out, err) != 0);
 }
+
+static pp5_status_t image_cost(void *ctx, double gx, double gy, replay_frame_cost_t *out)
+{
+    static uint8_t px[4 * 4];
+    static image8_t img = {4, 4, 1, px};
+    out->frame_s = 0.1;
+    out->image = out->want_image ? &img : NULL;
+    return PP5_OK;
+}
+
+static pp5_status_t count_image(void *ctx, const replay_frame_t *f, const image8_t *img)
+{
+    (*(int *)ctx)++;
+    return img->width == 4 ? PP5_OK : PP5_E_RANGE;
+}
+
+TEST(replay_cost_sources_by_name_and_images_per_frame)
+{
+    const replay_cost_source_t *cs = replay_find_cost_source("constant");
+    REQUIRE(cs);
+    CHECK(strstr(cs->summary, "NOT the emulated machine") != NULL);
+    void *ctx;
+    gaze_geometry_t g;
+    angles_paper_geometry(&g);
+    REQUIRE(cs->open("50", &g, &ctx) == PP5_OK);
+    replay_frame_cost_t c = {0};
+    REQUIRE(cs->cost(ctx, 1, 2, &c) == PP5_OK);
+    CHECK_NEAR(c.frame_s, 0.050, 1e-15);
+    cs->close(ctx);
+    CHECK(cs->open("-3", &g, &ctx) == PP5_E_CONFIG);
+    CHECK(replay_find_cost_source("no-such-source") == NULL);
+
+    trace_t t;
+    make_trace(&t, 1.0, ramp_10dps);
+    replay_params_t p;
+    replay_defaults(&p);
+    int images = 0;
+    replay_result_t r;
+    REQUIRE(replay_run(&t, &p, image_cost, NULL, count_image, &images, &r) == PP5_OK);
+    CHECK_EQ(images, (int)r.count);
+    replay_result_free(&r);
+    images = 0;
+    p.timing_only = true;        /* the source is told not to render */
+    REQUIRE(replay_run(&t, &p, image_cost, NULL, count_image, &images, &r) == PP5_OK);
+    CHECK_EQ(images, 0);
+    replay_result_free(&r);
+    trace_free(&t);
+}

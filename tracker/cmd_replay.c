@@ -20,10 +20,6 @@
 #endif
 #endif
 
-/* The only frame-cost source in this branch: the emulator's firmware will plug
- * in through replay_frame_cost_fn (replay.h). */
-#define COST_SOURCE_LABEL "constant frame time (built-in stand-in, NOT the emulated machine)"
-
 static void usage(FILE *out)
 {
     fprintf(out,
@@ -33,9 +29,13 @@ static void usage(FILE *out)
         "end plus the display latency.  Reports the angle between the gaze used and the true\n"
         "gaze at display time, and how much of the time the true gaze was inside the\n"
         "full-resolution region.\n\n"
-        "Frame time: this build has only the built-in constant frame-time source (%s);\n"
-        "the emulated machine will supply per-frame times, rays and ring bytes later.\n\n"
-        "  --frame-time-ms X        constant frame time (default %.1f = the paper's 15 frames/s)\n"
+        "  --cost NAME[:OPTIONS]    where frame times come from (default constant):\n");
+    for (int i = 0; i < replay_cost_source_count(); i++)
+        fprintf(out, "                             %-10s %s\n", replay_cost_source_at(i)->name,
+                replay_cost_source_at(i)->summary);
+    fprintf(out,
+        "  --frame-time-ms X        shorthand for --cost constant:X (default %.1f = the paper's\n"
+        "                           15 frames/s)\n"
         "  --tracker-latency-ms T   sample age when it reaches the renderer (default %.0f) [U]\n"
         "  --display-latency-ms D   from frame end to the image on the screen (default %.0f) [U]\n"
         "  --latency-ms T           shorthand: tracker latency T, display latency 0\n"
@@ -45,9 +45,26 @@ static void usage(FILE *out)
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
         "  --csv FILE.csv           one line per frame\n"
-        "  --plot FILE.png          error and frame time over the trace (needs emu/util/plot.h)\n",
-        COST_SOURCE_LABEL, REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
+        "  --plot FILE.png          error and frame time over the trace (needs emu/util/plot.h)\n"
+        "  --frames-dir DIR         write each frame's image as DIR/frame_NNNNN.png (only when\n"
+        "                           the cost source renders images; the constant one does not)\n",
+        REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
         REPLAY_DEFAULT_DISPLAY_LATENCY_S * 1e3);
+}
+
+typedef struct {
+    const char *dir;
+    size_t written;
+} frames_out_t;
+
+static pp5_status_t save_frame(void *ctx, const replay_frame_t *f, const image8_t *img)
+{
+    frames_out_t *fo = ctx;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/frame_%05zu.png", fo->dir, f->index);
+    pp5_status_t st = png_write(path, img);
+    fo->written += st == PP5_OK;
+    return st;
 }
 
 static pp5_status_t write_csv(const char *path, const replay_result_t *r)
@@ -74,8 +91,8 @@ static pp5_status_t write_csv(const char *path, const replay_result_t *r)
 }
 
 static pp5_status_t write_report(const char *path, const char *trace_path, const trace_t *t,
-                                 const replay_params_t *p, double frame_s,
-                                 const replay_summary_t *s)
+                                 const replay_params_t *p, const replay_cost_source_t *cs,
+                                 const char *cost_options, const replay_summary_t *s)
 {
     FILE *f = fopen(path, "w");
     if (!f)
@@ -86,8 +103,9 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_kv_string(&j, "trace", trace_path);
     json_kv_string(&j, "trace_source", t->header.source);
     json_kv_double(&j, "trace_sample_rate_hz", t->header.sample_rate_hz);
-    json_kv_string(&j, "frame_cost_source", COST_SOURCE_LABEL);
-    json_kv_double(&j, "frame_time_ms", frame_s * 1e3);
+    json_kv_string(&j, "frame_cost_source", cs->name);
+    json_kv_string(&j, "frame_cost_options", cost_options);
+    json_kv_string(&j, "frame_cost_source_is", cs->summary);
     json_kv_double(&j, "tracker_latency_ms", p->tracker_latency_s * 1e3);
     json_kv_double(&j, "display_latency_ms", p->display_latency_s * 1e3);
     json_kv_double(&j, "fullres_radius_deg", p->fullres_radius_deg);
@@ -163,11 +181,12 @@ static int cmd_replay(int argc, char **argv)
         {"radius-deg", required_argument, 0, 'r'}, {"predict", required_argument, 0, 'p'},
         {"timing-only", no_argument, 0, 'T'}, {"max-frames", required_argument, 0, 'n'},
         {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
-        {"plot", required_argument, 0, 'P'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
+        {"frames-dir", required_argument, 0, 'F'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
-    replay_constant_cost_t cost = {REPLAY_DEFAULT_FRAME_S};
-    const char *report = NULL, *csv = NULL, *plot = NULL;
+    char cost_spec[256] = "constant";
+    const char *report = NULL, *csv = NULL, *plot = NULL, *frames_dir = NULL;
     pp5_status_t st = PP5_OK;
     double ms;
     long nf;
@@ -177,8 +196,15 @@ static int cmd_replay(int argc, char **argv)
         switch (c) {
         case 'f':
             if ((st = cliopt_double("--frame-time-ms", optarg, 0.01, 1e6, &ms)) == PP5_OK)
-                cost.frame_s = ms / 1e3;
+                snprintf(cost_spec, sizeof cost_spec, "constant:%s", optarg);
             break;
+        case 'C':
+            if (strlen(optarg) >= sizeof cost_spec)
+                st = pp5_fail(PP5_E_CONFIG, "--cost: too long");
+            else
+                snprintf(cost_spec, sizeof cost_spec, "%s", optarg);
+            break;
+        case 'F': frames_dir = optarg; break;
         case 't':
             if ((st = cliopt_double("--tracker-latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK)
                 p.tracker_latency_s = ms / 1e3;
@@ -220,16 +246,35 @@ static int cmd_replay(int argc, char **argv)
     if (st != PP5_OK)
         return cliopt_report("replay", st);
     const char *path = argv[optind];
+    /* NAME[:OPTIONS] */
+    char *colon = strchr(cost_spec, ':');
+    const char *cost_options = "";
+    if (colon) {
+        *colon = '\0';
+        cost_options = colon + 1;
+    }
+    const replay_cost_source_t *cs = replay_find_cost_source(cost_spec);
+    if (!cs)
+        return cliopt_report("replay", pp5_fail(PP5_E_CONFIG, "--cost: no frame-cost source "
+                                                "'%s' in this build (see --help)", cost_spec));
     trace_t t;
     st = trace_read_file(path, &t);
     if (st != PP5_OK)
         return cliopt_report("replay", st);
+    void *ctx = NULL;
+    st = cs->open(cost_options, &p.display, &ctx);
+    if (st != PP5_OK) {
+        trace_free(&t);
+        return cliopt_report("replay", st);
+    }
+    frames_out_t fo = {frames_dir, 0};
     replay_result_t r;
-    st = replay_run(&t, &p, replay_constant_cost, &cost, NULL, NULL, &r);
+    st = replay_run(&t, &p, cs->cost, ctx, frames_dir ? save_frame : NULL, &fo, &r);
     if (st == PP5_OK) {
         const replay_summary_t *s = &r.summary;
         printf("replay %s (%s)\n", path, t.header.source);
-        printf("  frame source: %s, %.1f ms\n", COST_SOURCE_LABEL, cost.frame_s * 1e3);
+        printf("  frame source: %s%s%s: %s; mean frame %.1f ms\n", cs->name,
+               cost_options[0] ? ":" : "", cost_options, cs->summary, s->mean_frame_s * 1e3);
         printf("  latency: tracker %.1f ms + frame + display %.1f ms; mean sample age at display "
                "%.1f ms\n", p.tracker_latency_s * 1e3, p.display_latency_s * 1e3,
                s->mean_latency_s * 1e3);
@@ -242,14 +287,19 @@ static int cmd_replay(int argc, char **argv)
         printf("  true gaze inside the %.1f deg full-resolution radius: %.1f %% of %.3f s with "
                "gaze data\n", p.fullres_radius_deg, 100.0 * s->inside_fraction,
                s->valid_display_s);
+        if (frames_dir)
+            printf("  frames written to %s: %zu (the cost source renders %s)\n", frames_dir,
+                   fo.written, fo.written ? "images" : "no images");
         if (csv)
             st = write_csv(csv, &r);
         if (st == PP5_OK && report)
-            st = write_report(report, path, &t, &p, cost.frame_s, s);
+            st = write_report(report, path, &t, &p, cs, cost_options, s);
         if (st == PP5_OK && plot)
             st = write_plot(plot, &r);
         replay_result_free(&r);
     }
+    if (cs->close)
+        cs->close(ctx);
     trace_free(&t);
     return st == PP5_OK ? 0 : cliopt_report("replay", st);
 }

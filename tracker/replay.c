@@ -19,6 +19,67 @@ pp5_status_t replay_constant_cost(void *ctx, double gaze_x, double gaze_y,
     return PP5_OK;
 }
 
+/* ---- named cost sources ---- */
+
+static const replay_cost_source_t *cost_sources[REPLAY_MAX_COST_SOURCES];
+static int n_cost_sources;
+
+void replay_register_cost_source(const replay_cost_source_t *src)
+{
+    for (int i = 0; i < n_cost_sources; i++)
+        if (strcmp(cost_sources[i]->name, src->name) == 0) {
+            cost_sources[i] = src;
+            return;
+        }
+    PP5_ASSERT(n_cost_sources < REPLAY_MAX_COST_SOURCES, "too many replay cost sources");
+    cost_sources[n_cost_sources++] = src;
+}
+
+const replay_cost_source_t *replay_find_cost_source(const char *name)
+{
+    for (int i = 0; i < n_cost_sources; i++)
+        if (strcmp(cost_sources[i]->name, name) == 0)
+            return cost_sources[i];
+    return NULL;
+}
+
+int replay_cost_source_count(void)
+{
+    return n_cost_sources;
+}
+
+const replay_cost_source_t *replay_cost_source_at(int i)
+{
+    return i >= 0 && i < n_cost_sources ? cost_sources[i] : NULL;
+}
+
+static pp5_status_t constant_open(const char *options, const gaze_geometry_t *display, void **ctx)
+{
+    double ms = REPLAY_DEFAULT_FRAME_S * 1e3;
+    if (options && *options) {
+        char *end;
+        ms = strtod(options, &end);
+        if (end == options || *end || !(ms >= 0.01 && ms <= 1e6))
+            return pp5_fail(PP5_E_CONFIG, "--cost constant:MS: '%s' is not a frame time in ms "
+                            "(0.01..1e6)", options);
+    }
+    replay_constant_cost_t *c = malloc(sizeof *c);
+    if (!c)
+        return pp5_fail(PP5_E_NOMEM, "out of memory");
+    c->frame_s = ms / 1e3;
+    *ctx = c;
+    return PP5_OK;
+}
+
+static const replay_cost_source_t constant_source = {
+    "constant", "every frame takes the same time; no rays, ring bytes or image (built-in "
+    "stand-in, NOT the emulated machine)", constant_open, replay_constant_cost, free};
+
+__attribute__((constructor)) static void register_constant_source(void)
+{
+    replay_register_cost_source(&constant_source);
+}
+
 void replay_defaults(replay_params_t *p)
 {
     memset(p, 0, sizeof *p);

@@ -57,6 +57,28 @@ typedef struct {
 pp5_status_t replay_constant_cost(void *ctx, double gaze_x, double gaze_y,
                                   replay_frame_cost_t *out);
 
+/* Named frame-cost sources for `pp5 replay --cost NAME[:OPTIONS]`.  The
+ * emulator's firmware registers one from its own file (a constructor calling
+ * replay_register_cost_source), so nobody edits cmd_replay.c to plug it in.
+ * "constant" (replay_constant_cost, options = frame time in ms) is built in.
+ *   open:  parses `options` (may be "" ), sees the rendered display, returns ctx
+ *   cost:  as replay_frame_cost_fn
+ *   close: frees ctx (may be NULL) */
+typedef struct {
+    const char *name;
+    const char *summary;
+    pp5_status_t (*open)(const char *options, const gaze_geometry_t *display, void **ctx);
+    replay_frame_cost_fn cost;
+    void (*close)(void *ctx);
+} replay_cost_source_t;
+
+#define REPLAY_MAX_COST_SOURCES 16
+/* Keeps the pointer (use static storage).  Later registrations of a name win. */
+void replay_register_cost_source(const replay_cost_source_t *src);
+const replay_cost_source_t *replay_find_cost_source(const char *name);
+int replay_cost_source_count(void);
+const replay_cost_source_t *replay_cost_source_at(int i);   /* NULL when out of range */
+
 /* Defaults and where they come from (they sum to the paper's 100-150 ms):
  *   frame 1/15 s    the Stellar simulator's 15 frames/s (paper §6) [C]
  *   tracker 33 ms   one video field pair of the NAC Eye Mark's cameras: [U]
