@@ -258,6 +258,23 @@ TEST(trace_source_plays_every_sample_then_ends)
     CHECK_EQ(n, 3);
     CHECK(!got);
     gaze_source_close(src);
+    /* trace_collect drains a source back into a trace. */
+    REQUIRE(parse_str(HEADER COLS "0\t1\t2\tok\t0\n1\t3\t4\tok\t0\n2\tnan\tnan\tlost\t0\n", &t) ==
+            PP5_OK);
+    REQUIRE(trace_source_open(&t, "again", &src) == PP5_OK);
+    trace_t back;
+    REQUIRE(trace_collect(src, 2, &back) == PP5_OK);
+    CHECK_EQ(back.count, 2);
+    CHECK(!back.complete);
+    CHECK(strcmp(back.header.source, "again") == 0);
+    CHECK_EQ(back.header.geometry.width_px, 1024);
+    CHECK_NEAR(back.samples[1].x_px, 3, 0);
+    trace_free(&back);
+    REQUIRE(trace_collect(src, 0, &back) == PP5_OK);    /* the rest */
+    CHECK_EQ(back.count, 1);
+    CHECK(back.complete);
+    trace_free(&back);
+    gaze_source_close(src);
 }
 
 TEST(trace_reads_gzip_and_rejects_truncated_gzip)

@@ -818,3 +818,30 @@ pp5_status_t trace_source_open(trace_t *t, const char *name, gaze_source_t **out
     *out = &ts->src;
     return PP5_OK;
 }
+
+pp5_status_t trace_collect(gaze_source_t *src, size_t max_samples, trace_t *out)
+{
+    trace_t t;
+    trace_init(&t);
+    snprintf(t.header.source, sizeof t.header.source, "%s", src->name ? src->name : "source");
+    t.header.sample_rate_hz = src->sample_rate_hz;
+    t.header.geometry = src->geometry;
+    pp5_status_t st = PP5_OK;
+    bool got = true;
+    while (st == PP5_OK && (max_samples == 0 || t.count < max_samples)) {
+        gaze_sample_t s;
+        st = gaze_source_next(src, &s, &got);
+        if (st != PP5_OK || !got)
+            break;
+        t.has_head |= (s.flags & GAZE_FLAG_HEAD) != 0;
+        t.has_hand |= (s.flags & GAZE_FLAG_HAND) != 0;
+        st = trace_append(&t, &s);
+    }
+    if (st != PP5_OK) {
+        trace_free(&t);
+        return st;
+    }
+    t.complete = !got;
+    *out = t;
+    return PP5_OK;
+}

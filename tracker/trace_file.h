@@ -80,6 +80,11 @@ pp5_status_t trace_writer_close(trace_writer_t *w);    /* flush, "# end" line, c
  * trace_source_open takes ownership of *t (it is freed by gaze_source_close). */
 pp5_status_t trace_source_open(trace_t *t, const char *name, gaze_source_t **out);
 
+/* Drains a source into a trace (until its end, or max_samples; 0 = no limit):
+ * how a live device's samples become something replay can read.  The header
+ * takes the source's name, rate and geometry. */
+pp5_status_t trace_collect(gaze_source_t *src, size_t max_samples, trace_t *out);
+
 /* Text of a label/status for the file's status column. */
 const char *trace_status_name(uint32_t flags);
 
