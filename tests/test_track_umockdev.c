@@ -414,25 +414,11 @@ static char *hex_of(const uint8_t *b, size_t n)
     return s;
 }
 
-static bool bed_open(bed_t *b, const trace_t *t, size_t limit, after_end_t after)
+/* The sysfs/udev description of both emulated devices, in umockdev's
+ * record format (g_free the result).  Also written out for the
+ * umockdev-run test and shipped as tests/fixtures/devices/trackers.umockdev. */
+static char *trackers_umockdev_text(void)
 {
-    memset(b, 0, sizeof *b);
-    b->hid_master = -1;
-    emu_init(&b->emu, t, limit, after);
-    b->tb = umockdev_testbed_new();
-    if (!b->tb)
-        return false;
-    b->usb = umockdev_ioctl_base_new();
-    b->hid = umockdev_ioctl_base_new();
-    g_signal_connect(b->usb, "handle-ioctl", G_CALLBACK(usb_ioctl), &b->emu);
-    g_signal_connect(b->hid, "handle-ioctl", G_CALLBACK(hid_ioctl), &b->emu);
-    /* handlers first, then the devices (as libusb's own umockdev test) */
-    GError *err = NULL;
-    if (!umockdev_testbed_attach_ioctl(b->tb, "/dev/bus/usb/001/002", b->usb, &err) ||
-        !umockdev_testbed_attach_ioctl(b->tb, "/dev/hidraw0", b->hid, &err)) {
-        fprintf(stderr, "    attach_ioctl: %s\n", err ? err->message : "?");
-        return false;
-    }
     /* USB descriptors: device + configuration, written by hand.
      * Patriot 0f44:ef12: interface 0 vendor class, bulk EP 0x02 / 0x82. */
     static const uint8_t patriot_desc[] = {
@@ -482,13 +468,36 @@ static bool bed_open(bed_t *b, const trace_t *t, size_t limit, after_end_t after
         "A: bConfigurationValue=1\\n\nA: speed=12\\n\nA: manufacturer=pp5 tests\\n\n"
         "A: product=Emulated eye tracker\\n\nA: serial=ET0001\\n\nH: descriptors=%s\n",
         usb, pat_hex, usb, usb, rd_hex, usb, usb, eye_hex);
+    free(pat_hex);
+    free(eye_hex);
+    free(rd_hex);
+    return text;
+}
+
+static bool bed_open(bed_t *b, const trace_t *t, size_t limit, after_end_t after)
+{
+    memset(b, 0, sizeof *b);
+    b->hid_master = -1;
+    emu_init(&b->emu, t, limit, after);
+    b->tb = umockdev_testbed_new();
+    if (!b->tb)
+        return false;
+    b->usb = umockdev_ioctl_base_new();
+    b->hid = umockdev_ioctl_base_new();
+    g_signal_connect(b->usb, "handle-ioctl", G_CALLBACK(usb_ioctl), &b->emu);
+    g_signal_connect(b->hid, "handle-ioctl", G_CALLBACK(hid_ioctl), &b->emu);
+    /* handlers first, then the devices (as libusb's own umockdev test) */
+    GError *err = NULL;
+    if (!umockdev_testbed_attach_ioctl(b->tb, "/dev/bus/usb/001/002", b->usb, &err) ||
+        !umockdev_testbed_attach_ioctl(b->tb, "/dev/hidraw0", b->hid, &err)) {
+        fprintf(stderr, "    attach_ioctl: %s\n", err ? err->message : "?");
+        return false;
+    }
+    char *text = trackers_umockdev_text();
     bool ok = umockdev_testbed_add_from_string(b->tb, text, &err);
     if (!ok)
         fprintf(stderr, "    add_from_string: %s\n", err ? err->message : "?");
     g_free(text);
-    free(pat_hex);
-    free(eye_hex);
-    free(rd_hex);
     if (err)
         g_error_free(err);
     if (!ok)
@@ -529,7 +538,19 @@ typedef struct {
     char out[512], err[512];
 } child_t;
 
+/* Runs `CMD_PREFIX pp5 ARGS` in the background; with `preload`, the child
+ * gets umockdev's preload library (the testbed route); without, the prefix
+ * is expected to be umockdev-run, which sets it itself. */
+static bool child_start_cmd(child_t *c, const char *dir, const char *prefix, const char *args,
+                            bool preload);
+
 static bool child_start(child_t *c, const char *dir, const char *args)
+{
+    return child_start_cmd(c, dir, "", args, true);
+}
+
+static bool child_start_cmd(child_t *c, const char *dir, const char *prefix, const char *args,
+                            bool preload)
 {
     const char *bin = getenv("PP5_BIN");
     if (!bin || !*bin)
@@ -538,7 +559,8 @@ static bool child_start(child_t *c, const char *dir, const char *args)
     snprintf(c->out, sizeof c->out, "%s/stdout.txt", dir);
     snprintf(c->err, sizeof c->err, "%s/stderr.txt", dir);
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "exec %s %s >%s 2>%s </dev/null", bin, args, c->out, c->err);
+    snprintf(cmd, sizeof cmd, "exec %s %s %s >%s 2>%s </dev/null", prefix, bin, args, c->out,
+             c->err);
     c->pid = fork();
     if (c->pid < 0)
         return false;
@@ -546,7 +568,8 @@ static bool child_start(child_t *c, const char *dir, const char *args)
         /* umockdev's preload must come into the child only; a sanitised
          * pp5 wants its runtime first in the library list, which LD_PRELOAD
          * breaks, so that check is switched off for the child. */
-        setenv("LD_PRELOAD", "libumockdev-preload.so.0", 1);
+        if (preload)
+            setenv("LD_PRELOAD", "libumockdev-preload.so.0", 1);
         const char *asan = getenv("ASAN_OPTIONS");
         char opts[512];
         snprintf(opts, sizeof opts, "%s%sverify_asan_link_order=0", asan ? asan : "",
@@ -1029,6 +1052,119 @@ TEST(track_umockdev_kill9_keeps_flushed_samples)
               got.count, flushed);
     CHECK(got.count <= sent);
     check_gaze_prefix(&got, &want, got.count);
+    trace_free(&got);
+    trace_free(&want);
+}
+
+/* ---- the umockdev-run route: fixture files instead of handlers ----
+ * umockdev-run replays hidraw ioctls from an ioctl tree (answered in the
+ * order recorded) and input reports from a read script; the files are
+ * generated here from a trace, like tests/fixtures/devices/eyetracker.*.
+ * The script ends after 20 reports, so pp5 must stop with a timeout. */
+
+static void write_script_bytes(FILE *f, const uint8_t *b, size_t n)
+{
+    /* umockdev script escaping: bytes below 32 as '^' + (b + 64), '^' as "^`" */
+    for (size_t i = 0; i < n; i++) {
+        if (b[i] < 32)
+            fprintf(f, "^%c", b[i] + 64);
+        else if (b[i] == '^')
+            fputs("^`", f);
+        else
+            fputc(b[i], f);
+    }
+}
+
+static bool write_fixture_files(const char *dir, const trace_t *t, size_t n_reports)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/trackers.umockdev", dir);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return false;
+    char *text = trackers_umockdev_text();
+    fputs(text, f);
+    g_free(text);
+    fclose(f);
+
+    snprintf(path, sizeof path, "%s/eyetracker.ioctl", dir);
+    f = fopen(path, "w");
+    if (!f)
+        return false;
+    uint32_t dlen = sizeof pp5_fixture_eye_desc;
+    fprintf(f, "@DEV /dev/hidraw0\nHIDIOCGRDESCSIZE 0 %02x%02x%02x%02x\n", dlen & 0xff,
+            (dlen >> 8) & 0xff, (dlen >> 16) & 0xff, dlen >> 24);
+    static const uint8_t ids[3] = {0x11, 0x12, 0x13}; /* the order pp5 asks in */
+    for (int k = 0; k < 3; k++) {
+        uint8_t rep[32];
+        size_t n = feature_report(ids[k], rep);
+        fprintf(f, "HIDIOCGFEATURE %zu ", n);
+        for (size_t i = 0; i < n; i++)
+            fprintf(f, "%02x", rep[i]);
+        fputc('\n', f);
+    }
+    fclose(f);
+
+    snprintf(path, sizeof path, "%s/eyetracker.script", dir);
+    f = fopen(path, "w");
+    if (!f)
+        return false;
+    for (size_t i = 0; i < n_reports && i < t->count; i++) {
+        uint8_t r[65];
+        tracking_report(r, &t->samples[i], 0x10);
+        fputs("r 4 ", f);
+        write_script_bytes(f, r, sizeof r);
+        fputc('\n', f);
+    }
+    fclose(f);
+    return true;
+}
+
+TEST(track_umockdev_run_replays_fixture_files)
+{
+    if (system("command -v umockdev-run >/dev/null 2>&1") != 0)
+        SKIP("UMOCKDEV-RUN NOT INSTALLED: this device integration test did not run "
+             "(apt-get install umockdev)");
+    const char *dir = pp5_test_outdir();
+    char in[600], outp[600], prefix[2400], args[800];
+    snprintf(in, sizeof in, "%s/gaze-in-run.trace", dir);
+    trace_t want;
+    make_trace(in, 20, false, &want);
+    REQUIRE(write_fixture_files(dir, &want, 20));
+    /* the shipped copies (for trying by hand) must be what this generates */
+    static const char *const names[4][2] = {{"trackers.umockdev", "trackers.umockdev"},
+                                            {"eyetracker.ioctl", "eyetracker.ioctl"},
+                                            {"eyetracker.script", "eyetracker.script"},
+                                            {"gaze-in-run.trace", "eyetracker-20.trace"}};
+    for (int k = 0; k < 4; k++) {
+        char gen[700], shipped[700];
+        snprintf(gen, sizeof gen, "%s/%s", dir, names[k][0]);
+        snprintf(shipped, sizeof shipped, "tests/fixtures/devices/%s", names[k][1]);
+        char *a = pp5_test_read_file(gen), *b = pp5_test_read_file(shipped);
+        CHECK_MSG(a && b && strcmp(a, b) == 0,
+                  "%s differs from what the test generates (copy %s over it)", shipped, gen);
+        free(a);
+        free(b);
+    }
+    snprintf(prefix, sizeof prefix,
+             "umockdev-run -d %s/trackers.umockdev -i /dev/hidraw0=%s/eyetracker.ioctl "
+             "-s /dev/hidraw0=%s/eyetracker.script --",
+             dir, dir, dir);
+    snprintf(outp, sizeof outp, "%s/run-out.trace", dir);
+    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 1000", outp);
+    child_t c;
+    REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
+    int rc = child_wait(&c, CHILD_DEADLINE_S);
+    CHECK_MSG(rc == 1, "umockdev-run pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(file_contains(c.err, "timeout"), "stderr lacks 'timeout'");
+    if (rc != 1 || !file_contains(c.err, "timeout"))
+        show_stderr(&c);
+    trace_t got;
+    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
+    CHECK(!got.complete);
+    CHECK_EQ(got.count, 20);
+    CHECK_NEAR(got.header.sample_rate_hz, EMU_RATE_HZ, 0);
+    check_gaze_prefix(&got, &want, 20);
     trace_free(&got);
     trace_free(&want);
 }

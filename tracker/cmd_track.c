@@ -293,9 +293,12 @@ static int record_hid(const char *path, const record_opts_t *o)
     st = trace_writer_open(&w, o->out, &h, false, false);
     if (st != PP5_OK) {
         gaze_source_close(src);
-        if (h.geometry.distance_mm <= 0)
+        if (h.geometry.distance_mm <= 0) {
+            char why[512]; /* copy first: pp5_fail writes the buffer it would read */
+            snprintf(why, sizeof why, "%s", pp5_error_text());
             pp5_fail(st, "%s (the device reports no optimum tracking distance: give --distance-mm)",
-                     pp5_error_text());
+                     why);
+        }
         return cliopt_report("track", st);
     }
     size_t n = 0;

@@ -356,8 +356,11 @@ pp5_status_t hid_eye_open(const char *path, int timeout_ms, hid_eye_t **out)
     pp5_status_t st = read_sysfs_descriptor(path, desc, sizeof desc, &desc_len);
     if (st == PP5_OK) {
         st = hid_eye_layout_init(d->layout, desc, desc_len);
-        if (st != PP5_OK)
-            st = pp5_fail(st, "%s: %s", path, pp5_error_text());
+        if (st != PP5_OK) {
+            char why[512]; /* copy first: pp5_fail writes the buffer it would read */
+            snprintf(why, sizeof why, "%s", pp5_error_text());
+            st = pp5_fail(st, "%s: %s", path, why);
+        }
     }
     if (st == PP5_OK) {
         d->dev = hid_open_path(path);

@@ -299,9 +299,12 @@ pp5_status_t polhemus_poll(polhemus_t *p, polhemus_record_t *recs, size_t max, s
             return PP5_OK;
         }
         p->stats.malformed_transfers++;
-        if (++bad > POLHEMUS_MAX_BAD_IN_A_ROW)
+        if (++bad > POLHEMUS_MAX_BAD_IN_A_ROW) {
+            char why[512]; /* copy first: pp5_fail writes the buffer it would read */
+            snprintf(why, sizeof why, "%s", pp5_error_text());
             return pp5_fail(PP5_E_DEVICE, "%s: %u malformed transfers in a row; last: %s",
-                            p->model->name, bad, pp5_error_text());
+                            p->model->name, bad, why);
+        }
     }
 }
 
