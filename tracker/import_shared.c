@@ -74,7 +74,7 @@ pp5_status_t import_shared(const char *text, size_t len, const char *name,
             continue;                       /* a free comment */
         *colon = '\0';
         const char *key = line + 2, *v = colon + 2;
-        double a, b;
+        double a = 0, b = 0;
         if (strcmp(key, "source") == 0) {
             snprintf(their_source, sizeof their_source, "%s", v);
             seen |= K_SOURCE;
