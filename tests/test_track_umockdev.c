@@ -67,6 +67,9 @@ typedef struct {
     const trace_t *trace;
     size_t limit;              /* frames/reports served before after_end */
     after_end_t after_end;
+    /* Polhemus faults: frames whose transfer is garbled (tag 'XX'), and
+     * frames whose hand record carries the error indicator 'E' */
+    size_t garble_every, hand_error_frame;
     /* Polhemus */
     bool configured, disconnected;
     char cmdlog[256];
@@ -151,9 +154,14 @@ static void patriot_command(emu_t *e, const uint8_t *cmd, size_t len)
                 e->disconnected = true;
             return; /* silent: the IN transfer will time out */
         }
-        const gaze_sample_t *s = &e->trace->samples[e->frames_sent++];
+        size_t frame = e->frames_sent++;
+        const gaze_sample_t *s = &e->trace->samples[frame];
         size_t n = patriot_record(e->pending, 1, &s->head);
         n += patriot_record(e->pending + n, 2, &s->hand);
+        if (e->garble_every && frame % e->garble_every == e->garble_every - 1)
+            e->pending[0] = e->pending[1] = 'X';
+        if (e->hand_error_frame && frame == e->hand_error_frame)
+            e->pending[34 + 4] = 'E'; /* error byte of the second record */
         e->pending_len = n;
         e->has_pending = true;
         return;
@@ -851,6 +859,52 @@ TEST(track_umockdev_polhemus_timeout_is_reported)
 TEST(track_umockdev_polhemus_disconnect_is_reported)
 {
     polhemus_failure(AFTER_END_DISCONNECT, "disconnected");
+}
+
+/* Garbled transfers are counted and skipped (pp5 polls again, so each costs
+ * one trace frame); a station's error indicator drops that station's pose
+ * from the sample and is reported. */
+TEST(track_umockdev_polhemus_bad_records_are_counted)
+{
+    const char *dir = pp5_test_outdir();
+    char in[600], outp[600], args[1400];
+    snprintf(in, sizeof in, "%s/poses-in-bad.trace", dir);
+    trace_t want;
+    make_trace(in, 40, true, &want);
+    bed_t b;
+    BED_OR_FAIL(&b, &want, 40, AFTER_END_SILENT);
+    b.emu.garble_every = 10;    /* frames 9, 19, 29, 39 */
+    b.emu.hand_error_frame = 5;
+    child_t c;
+    snprintf(outp, sizeof outp, "%s/polhemus-bad.trace", dir);
+    snprintf(args, sizeof args, "track record --device polhemus --out %s --max-samples 30 "
+             "--rate 500 --timeout-ms 2000", outp);
+    REQUIRE(child_start(&c, dir, args));
+    int rc = child_wait(&c, CHILD_DEADLINE_S);
+    bed_close(&b);
+    if (rc != 0)
+        show_stderr(&c);
+    CHECK_MSG(rc == 0, "pp5 exited %d (-1: hang, killed)", rc);
+    CHECK_MSG(file_contains(c.err, "malformed transfers 3"), "garbled transfers not counted");
+    CHECK_MSG(file_contains(c.err, "station errors 1"), "station error not counted");
+    CHECK_MSG(file_contains(c.err, "station 2 reports error 'E'"), "station error not reported");
+    trace_t got;
+    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
+    REQUIRE(got.count == 30);
+    /* sample k came from frame k + (garbled frames before it): frames 9,
+     * 19, 29 were skipped; frame 5's hand record carried the error */
+    int bad = 0;
+    for (size_t k = 0; k < 30; k++) {
+        size_t frame = k + (k >= 9) + (k >= 18) + (k >= 27);
+        const gaze_sample_t *g = &got.samples[k], *w = &want.samples[frame];
+        bool hand_expected = frame != 5;
+        if (!(g->flags & GAZE_FLAG_HEAD) || ((g->flags & GAZE_FLAG_HAND) != 0) != hand_expected ||
+            fabs(g->head.pos_mm[0] - w->head.pos_mm[0]) > 1e-3)
+            bad++;
+    }
+    CHECK_MSG(bad == 0, "%d samples do not match the frames the device sent", bad);
+    trace_free(&got);
+    trace_free(&want);
 }
 
 /* Injects reports for samples [from, to) of t into the hidraw pty in one
