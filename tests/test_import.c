@@ -397,3 +397,78 @@ TEST(import_cli_converts_and_carries_to_the_paper_display)
     CHECK(e && strstr(e, "--source-px"));
     free(e);
 }
+
+#include "tracker/synth.h"
+
+/* Flips, deletes and truncates bytes of valid inputs: every parser must return
+ * (OK or an error with a message), never crash or read out of bounds (the
+ * ASan build runs this too). */
+TEST(import_mutated_inputs_never_crash)
+{
+    static const char *const seeds[] = {
+        "** CONVERTED\nMSG\t1 DISPLAY_COORDS 0 0 1023 767\nSTART\t10 \tLEFT\tRIGHT\tSAMPLES\tEVENTS\n"
+        "SAMPLES\tGAZE\tLEFT\tRIGHT\tRATE\t500.00\n10\t1.0\t2.0\t3.0\t4.0\t5.0\t6.0\t.....\n"
+        "12\t   .\t   .\t0.0\t4.0\t5.0\t6.0\t.C...\nEFIX L 10 12 4 1 2 3\n"
+        "END\t13 \tSAMPLES\tEVENTS\tRES\t 35.0\t 36.0\n",
+        "Recording timestamp [ms]\tSensor\tGaze point X\tGaze point Y\n1\tEye Tracker\t5\t6\n"
+        "2\tEye Tracker\t7,5\t8\n3\tGyroscope\t\t\n",
+        "Time\tLGazePos2dx\tLGazePos2dy\tLValidity\tRGazePos2dx\tRGazePos2dy\tRValidity\n"
+        "100\t0.5\t0.5\t0\t0.4\t0.4\t1\n3433\t-1\t-1\t4\t0.4\t0.4\t0\n",
+        "gaze_timestamp,confidence,norm_pos_x,norm_pos_y,base_data\n1.0,0.9,0.5,0.5,\"a b\"\n"
+        "1.01,0.9,0.5,0.5,\"x,y\"\n",
+        "# gaze-trace v1\n# source: s\n# sample_rate_hz: 500\n# screen_px: 10 10\n"
+        "# screen_mm: 1 1\n# distance_mm: 5\nt_ms\tx_px\ty_px\tlabel\n0\t1\t1\t1\n2\tnan\tnan\t5\n",
+        "# pp5-trace v1\n# source: s\n# sample_rate_hz: 500\n# screen_px: 10 10\n"
+        "# screen_mm: 1 1\n# distance_mm: 5\nt_ms\tx_px\ty_px\tstatus\tlabel\n0\t1\t1\tok\t1\n"
+        "2\tnan\tnan\tblink\t5\n# end: 2 samples\n",
+    };
+    synth_rng_t rng;
+    synth_rng_seed(&rng, 42);
+    import_options_t o;
+    import_defaults(&o);
+    o.source_width_px = 100;
+    o.source_height_px = 100;
+    o.source_px_per_deg = 10;
+    int ok = 0, errors = 0;
+    for (size_t s = 0; s < sizeof seeds / sizeof seeds[0]; s++) {
+        size_t len = strlen(seeds[s]);
+        char *buf = malloc(len + 1);
+        REQUIRE(buf);
+        for (int round = 0; round < 1000; round++) {
+            memcpy(buf, seeds[s], len + 1);
+            size_t n = len;
+            int edits = 1 + (int)(synth_rng_next(&rng) % 4);
+            for (int e = 0; e < edits && n > 0; e++) {
+                size_t at = synth_rng_next(&rng) % n;
+                switch (synth_rng_next(&rng) % 4) {
+                case 0: buf[at] = (char)(synth_rng_next(&rng) & 0xff); break;
+                case 1: memmove(buf + at, buf + at + 1, n - at); n--; break;
+                case 2: n = at; break;                                  /* truncate */
+                default: buf[at] = "\t\n.,-9e"[synth_rng_next(&rng) % 7]; break;
+                }
+            }
+            trace_t t;
+            pp5_status_t st;
+            switch (s) {
+            case 0: st = import_eyelink(buf, n, "fuzz", &o, &t); break;
+            case 1: case 2: st = import_tobii(buf, n, "fuzz", &o, &t); break;
+            case 3: st = import_pupil(buf, n, "fuzz", &o, &t); break;
+            case 4: st = import_shared(buf, n, "fuzz", &o, &t); break;
+            default: st = trace_parse(buf, n, "fuzz", &t); break;
+            }
+            if (st == PP5_OK) {
+                ok++;
+                /* Whatever was accepted is in time order. */
+                for (size_t i = 1; i < t.count; i++)
+                    if (t.samples[i].t_ns < t.samples[i - 1].t_ns)
+                        CHECK_MSG(false, "seed %zu: accepted out-of-order time", s);
+                trace_free(&t);
+            } else {
+                errors++;
+                CHECK(pp5_error_text()[0] != '\0');
+            }
+        }
+        free(buf);
+    }
+    CHECK(ok > 0 && errors > 0);
+}

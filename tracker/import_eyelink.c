@@ -183,6 +183,11 @@ pp5_status_t import_eyelink(const char *text, size_t len, const char *name,
             prev_ms = ms;
             if (isnan(t0))
                 t0 = sample_ms;
+            if ((sample_ms - t0) * 1e6 > 1e17) {
+                st = pp5_fail(PP5_E_RANGE, "%s:%d: timestamps span more than 3 years", name,
+                              lineno);
+                break;
+            }
             gaze_sample_t s;
             gaze_sample_invalid(&s, llround((sample_ms - t0) * 1e6));
             if (k > 0) {

@@ -105,6 +105,10 @@ pp5_status_t import_pupil(const char *text, size_t len, const char *name,
         prev = ts;
         if (isnan(t0))
             t0 = ts;
+        if ((ts - t0) * 1e9 > 1e17) {
+            st = pp5_fail(PP5_E_RANGE, "%s:%d: timestamps span more than 3 years", name, lineno);
+            break;
+        }
         bool ok = import_parse_double(f[c_x], &nx) && import_parse_double(f[c_y], &ny);
         if (!ok) {
             st = pp5_fail(PP5_E_FORMAT, "%s:%d: gaze '%s','%s' is not a number", name, lineno,

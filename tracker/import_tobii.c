@@ -269,6 +269,10 @@ pp5_status_t import_tobii(const char *text, size_t len, const char *name,
             st = pp5_fail(PP5_E_FORMAT, "%s: timestamps never advance", name);
             goto done;
         }
+        if ((raw[t.count - 1] - raw[0]) * time_scale_ns > 1e17) {
+            st = pp5_fail(PP5_E_RANGE, "%s: timestamps span more than 3 years", name);
+            goto done;
+        }
         for (size_t i = 0; i < t.count; i++)
             t.samples[i].t_ns = llround((raw[i] - raw[0]) * time_scale_ns);
         t.header.sample_rate_hz = 1e9 / (step * time_scale_ns);
