@@ -1016,6 +1016,45 @@ static void hid_failure(bool disconnect, int n_good, int n_bad, const char *need
     trace_free(&want);
 }
 
+/* SIGTERM (or Ctrl-C) while pp5 waits for the device: a clean stop, the
+ * file complete with its end line, exit 0. */
+TEST(track_umockdev_hid_sigterm_ends_the_file_cleanly)
+{
+    const char *dir = pp5_test_outdir();
+    char in[600], outp[600], args[1400];
+    snprintf(in, sizeof in, "%s/gaze-in-term.trace", dir);
+    trace_t want;
+    make_trace(in, 12, false, &want);
+    bed_t b;
+    BED_OR_FAIL(&b, &want, 12, AFTER_END_SILENT);
+    child_t c;
+    snprintf(outp, sizeof outp, "%s/hid-term.trace", dir);
+    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 10000 "
+             "--flush-every 1 --verbose", outp);
+    REQUIRE(child_start(&c, dir, args));
+    bool opened = wait_features(&b, &c);
+    CHECK_MSG(opened, "pp5 never read the Configuration feature report");
+    if (opened)
+        CHECK(inject(&b, &want, 0, 12, 0x10));
+    for (int i = 0; i < CHILD_DEADLINE_S * 100 && !file_contains(c.err, "flushed 12 samples") &&
+                    child_running(&c); i++)
+        sleep_ms(10);
+    if (!child_poll(&c))
+        kill(c.pid, SIGTERM);
+    int rc = child_wait(&c, CHILD_DEADLINE_S);
+    bed_close(&b);
+    if (rc != 0)
+        show_stderr(&c);
+    CHECK_MSG(rc == 0, "pp5 exited %d after SIGTERM, expected 0 (-1: hang, killed)", rc);
+    trace_t got;
+    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
+    CHECK(got.complete);
+    CHECK_EQ(got.count, 12);
+    check_gaze_prefix(&got, &want, 12);
+    trace_free(&got);
+    trace_free(&want);
+}
+
 TEST(track_umockdev_hid_timeout_is_reported)
 {
     hid_failure(false, 10, 0, "timeout");
