@@ -343,3 +343,25 @@ TEST(replay_cost_sources_by_name_and_images_per_frame)
     replay_result_free(&r);
     trace_free(&t);
 }
+
+TEST(replay_refresh_waits_for_the_next_vertical_blank)
+{
+    /* 60 Hz refresh, frames of 50.37 ms from 30 ms: frame 0 ends at 80.37 ms,
+     * the next refresh is at 83.333 ms (5/60 s), shown 20 ms later. */
+    trace_t t;
+    make_trace(&t, 1.0, ramp_10dps);
+    replay_params_t p;
+    replay_defaults(&p);
+    p.tracker_latency_s = 0.030;
+    p.display_latency_s = 0.020;
+    p.refresh_hz = 60;
+    replay_constant_cost_t c = {0.05037};
+    replay_result_t r;
+    REQUIRE(replay_run(&t, &p, replay_constant_cost, &c, NULL, NULL, &r) == PP5_OK);
+    CHECK_NEAR(r.frames[0].display_s, 5.0 / 60 + 0.020, 1e-12);
+    /* frame 1 ends at 130.74 ms -> refresh 133.333 ms (8/60) */
+    CHECK_NEAR(r.frames[1].display_s, 8.0 / 60 + 0.020, 1e-12);
+    CHECK_NEAR(r.frames[1].error_deg, 10.0 * (8.0 / 60 + 0.020 - 0.050), 1e-6);
+    replay_result_free(&r);
+    trace_free(&t);
+}

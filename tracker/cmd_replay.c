@@ -40,6 +40,7 @@ static void usage(FILE *out)
         "  --display-latency-ms D   from frame end to the image on the screen (default %.0f) [U]\n"
         "  --latency-ms T           shorthand: tracker latency T, display latency 0\n"
         "  --radius-deg R           full-resolution radius (default 6: the paper's 12 deg circle)\n"
+        "  --refresh-hz HZ          images wait for the next refresh (e.g. 60); default: none\n"
         "  --predict P              none (default), linear, alphabeta, kalman\n"
         "  --timing-only            do not ask the frame source for images\n"
         "  --max-frames N           stop after N frames\n"
@@ -109,6 +110,7 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_kv_double(&j, "tracker_latency_ms", p->tracker_latency_s * 1e3);
     json_kv_double(&j, "display_latency_ms", p->display_latency_s * 1e3);
     json_kv_double(&j, "fullres_radius_deg", p->fullres_radius_deg);
+    json_kv_double(&j, "refresh_hz", p->refresh_hz);
     json_kv_string(&j, "predict", predict_kind_name(p->predict.kind));
     json_kv_bool(&j, "timing_only", p->timing_only);
     json_key(&j, "summary");
@@ -182,6 +184,7 @@ static int cmd_replay(int argc, char **argv)
         {"timing-only", no_argument, 0, 'T'}, {"max-frames", required_argument, 0, 'n'},
         {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
         {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
+        {"refresh-hz", required_argument, 0, 'R'},
         {"frames-dir", required_argument, 0, 'F'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
@@ -205,6 +208,7 @@ static int cmd_replay(int argc, char **argv)
                 snprintf(cost_spec, sizeof cost_spec, "%s", optarg);
             break;
         case 'F': frames_dir = optarg; break;
+        case 'R': st = cliopt_double("--refresh-hz", optarg, 0, 10000, &p.refresh_hz); break;
         case 't':
             if ((st = cliopt_double("--tracker-latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK)
                 p.tracker_latency_s = ms / 1e3;

@@ -218,6 +218,7 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         return pp5_fail(PP5_E_RANGE, "replay needs at least 2 samples, the trace has %zu",
                         trace->count);
     if (!(p->tracker_latency_s >= 0 && p->display_latency_s >= 0 && p->fullres_radius_deg > 0) ||
+        !(p->refresh_hz >= 0 && p->refresh_hz <= 10000) ||
         !isfinite(p->tracker_latency_s) || !isfinite(p->display_latency_s))
         return pp5_fail(PP5_E_CONFIG, "replay: latencies must be >= 0 and the radius > 0");
     gaze_geometry_t rec, disp;
@@ -311,7 +312,12 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         f.rays = c.rays;
         f.ring_bytes = c.ring_bytes;
         f.end_s = start + c.frame_s;
-        f.display_s = f.end_s + p->display_latency_s;
+        double ready = f.end_s;
+        if (p->refresh_hz > 0) {
+            double period = 1.0 / p->refresh_hz;
+            ready = ceil((f.end_s - s[0].t_s) / period - 1e-9) * period + s[0].t_s;
+        }
+        f.display_s = ready + p->display_latency_s;
         if (f.display_s > t_end_trace)
             break;                       /* the trace ends before this image is seen */
         double tax, tay;

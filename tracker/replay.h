@@ -17,6 +17,12 @@
  *     gaze lies within fullres_radius_deg of that image's sweet spot (each sample
  *     held until the next, at most 2 sample intervals; missing data counts as
  *     neither inside nor outside).
+ * Modelled: fixed tracker and display latencies; per-frame times from the cost
+ * source; optionally, frames waiting for the next vertical refresh (refresh_hz).
+ * Not modelled: latency jitter; raster scan-out (the image appears top to
+ * bottom over one refresh); a renderer that reads the gaze again mid-frame; the
+ * paper's Gaussian blend between the 12° and 20° circles (only "inside the
+ * full-resolution radius" is scored).
  * Angles are measured on the recording's display, where the subject's eye
  * really was; the sweet spot handed to the renderer is the same direction
  * carried to the rendered display (angles_remap), clamped onto that screen. */
@@ -92,6 +98,9 @@ typedef struct {
     double tracker_latency_s;
     double display_latency_s;
     double fullres_radius_deg;   /* default 6: the paper's 12° full-resolution circle (§5) */
+    double refresh_hz;           /* > 0: an image waits for the next refresh (a multiple of
+                                    1/refresh_hz of trace time) before the display latency;
+                                    0 (default): shown as soon as the frame ends */
     gaze_geometry_t display;     /* rendered display; default the paper's (angles.h) */
     predict_params_t predict;
     bool timing_only;            /* ask the cost source for no image */
