@@ -140,6 +140,7 @@ typedef struct {
     double next_micro;         /* time of the next microsaccade */
     double blink_at, blink_dur;
     double resume_end;         /* end of a fixation interrupted by a microsaccade or blink; 0 none */
+    bool blink_in_pursuit;     /* the current blink interrupted pursuit */
 } sim_t;
 
 static double clampd(double v, double lo, double hi)
@@ -331,7 +332,19 @@ static int sim_step(sim_t *s, double t, double dt, bool *blink)
             return GAZE_LABEL_SACCADE;
         }
         case ST_BLINK:
+            if (s->blink_in_pursuit) {
+                /* Pursuit goes on behind closed lids; only the samples are lost. */
+                move_target(s, t, dt);
+                pursue_velocity(s, dt);
+                s->ex += s->evx * dt;
+                s->ey += s->evy * dt;
+            }
             if (t >= s->t_end) {
+                if (s->blink_in_pursuit) {
+                    s->blink_in_pursuit = false;
+                    s->st = ST_PURSUE;
+                    continue;
+                }
                 if (s->resume_end > t) {
                     s->st = ST_FIX;
                     s->t_end = s->resume_end;
@@ -348,6 +361,12 @@ static int sim_step(sim_t *s, double t, double dt, bool *blink)
             if (p->mode == SYNTH_MIXED && t >= s->episode_end) {
                 s->pursuing = true;             /* choose_next flips it to free viewing */
                 choose_next(s, t);
+                continue;
+            }
+            if (p->blinks_per_min > 0 && synth_rng_uniform(&s->rng) < p->blinks_per_min / 60.0 * dt) {
+                s->st = ST_BLINK;
+                s->blink_in_pursuit = true;
+                s->t_end = t + clampd(lognormal(&s->rng, 0.180, 0.17), 0.080, 0.9);
                 continue;
             }
             move_target(s, t, dt);

@@ -17,7 +17,8 @@
  *     images 224 ms; reading 206 ms), clamped to 80-2000 ms; drift a random walk
  *     of 0.1 °/sqrt(s) [assumption]; microsaccades 0.8 /s of 0.1-0.8° (§1 IRF).
  *   blinks 12 per minute (§2 [S23]), lognormal duration median 180 ms, 10-90 %
- *     148-229 ms (§1 IRF); samples missing (status blink, label 5).
+ *     148-229 ms (§1 IRF); samples missing (status blink, label 5); they start
+ *     inside fixations, or anywhere in pursuit (which continues behind the lids).
  *   pursuit: the target (the paper's cursor, §6) moves in straight runs of
  *     0.4-1.5 s at speeds up to max_pursuit_dps (default
  *     200 °/s, the paper's "up to 200°/sec"); the smooth eye velocity follows
