@@ -290,3 +290,33 @@ TEST(synth_rejects_bad_parameters)
     CHECK_NEAR(synth_saccade_profile(1.0), 1, 0);
     CHECK_NEAR(synth_saccade_profile(0.5), 0.5, 0.2);
 }
+
+TEST(synth_shipped_traces_match_their_commands)
+{
+    /* traces/README.md lists each shipped file with the command that made it;
+     * rerun every command and compare the bytes. */
+    char *readme = pp5_test_read_file("traces/README.md");
+    if (!readme)
+        SKIP("traces/README.md not found (tests run from the repository root)");
+    const char *dir = pp5_test_outdir();
+    int checked = 0;
+    for (char *p = readme; (p = strstr(p, "`./pp5 trace synth ")) != NULL; p++) {
+        char *end = strchr(p + 1, '`');
+        char *out = strstr(p, "--out traces/");
+        if (!end || !out || out > end)
+            continue;
+        char cmd[512], name[128], args[1200], mine[700];
+        snprintf(cmd, sizeof cmd, "%.*s", (int)(out - (p + 7)), p + 7);
+        snprintf(name, sizeof name, "%.*s", (int)(end - (out + 6)), out + 6);
+        snprintf(mine, sizeof mine, "%s/%s", dir, name + 7);
+        snprintf(args, sizeof args, "%s--out '%s'", cmd, mine);
+        REQUIRE_MSG(pp5_test_run_cli(args, NULL, NULL) == 0, "%s failed", args);
+        char *a = pp5_test_read_file(name), *b = pp5_test_read_file(mine);
+        CHECK_MSG(a && b && strcmp(a, b) == 0, "%s differs from what `%s` makes", name, cmd);
+        free(a);
+        free(b);
+        checked++;
+    }
+    free(readme);
+    CHECK(checked >= 4);
+}
