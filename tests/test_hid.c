@@ -404,3 +404,27 @@ TEST(hid_desc_mutated_descriptors_never_crash)
     free(d);
     free(l);
 }
+
+TEST(hid_desc_physical_range_and_english_units)
+{
+    /* logical 0..255 mapped onto physical 0..1000, in inches x 10^-2 */
+    static const uint8_t desc[] = {
+        0x05, 0x01, 0x09, 0x30, 0x15, 0x00, 0x26, 0xff, 0x00, 0x35, 0x00, 0x46, 0xe8, 0x03,
+        0x65, 0x13, 0x55, 0x0e, 0x75, 0x08, 0x95, 0x01, 0x81, 0x02,
+    };
+    hid_desc_t *d = malloc(sizeof *d);
+    REQUIRE(d);
+    REQUIRE_MSG(hid_desc_parse(desc, sizeof desc, d) == PP5_OK, "%s", pp5_error_text());
+    const hid_field_t *f = hid_desc_find(d, HID_REPORT_INPUT, 0x01, 0, 0x30);
+    REQUIRE(f);
+    CHECK_EQ(f->physical_max, 1000);
+    CHECK_EQ(f->unit_exponent, -2);
+    /* HID 1.11 §6.2.2.7: physical = raw * (1000 - 0) / (255 - 0) */
+    CHECK_NEAR(hid_field_physical(f, 128), 128.0 * 1000.0 / 255.0, 1e-9);
+    CHECK_NEAR(hid_field_physical(f, 255), 1000.0, 1e-9);
+    double factor = 0;
+    /* unit 0x13: English linear, length^1 = inch = 0.0254 m */
+    CHECK_EQ(hid_field_si_factor(f, &factor), HID_UNIT_LENGTH);
+    CHECK_NEAR(factor, 0.0254e-2, 1e-15);
+    free(d);
+}

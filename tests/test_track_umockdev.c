@@ -53,6 +53,17 @@ TEST(track_umockdev_devices)
 
 enum { CHILD_DEADLINE_S = 20, MAX_URBS = 64 };
 
+/* Which Polhemus the USB device is (tracker-devices.md §2.1, §2.3). */
+typedef struct {
+    uint16_t pid;
+    uint8_t ep_out, ep_in;
+    char tag[3];
+    const char *product;
+} emu_polhemus_t;
+static const emu_polhemus_t EMU_PATRIOT = {0xef12, 0x02, 0x82, "PA", "Patriot (emulated)"};
+/* VRPN's Latus/Liberty HS code reads 'LU' records from EP 0x88. */
+static const emu_polhemus_t EMU_LIBERTY_HS = {0xff20, 0x04, 0x88, "LU", "Liberty HS (emulated)"};
+
 /* What the emulated devices do once their trace (or limit) runs out. */
 typedef enum { AFTER_END_SILENT, AFTER_END_DISCONNECT } after_end_t;
 
@@ -64,6 +75,7 @@ typedef enum { AFTER_END_SILENT, AFTER_END_DISCONNECT } after_end_t;
 
 typedef struct {
     pthread_mutex_t mu;
+    const emu_polhemus_t *kind;
     const trace_t *trace;
     size_t limit;              /* frames/reports served before after_end */
     after_end_t after_end;
@@ -86,9 +98,11 @@ typedef struct {
     bool features_read;
 } emu_t;
 
-static void emu_init(emu_t *e, const trace_t *t, size_t limit, after_end_t after)
+static void emu_init(emu_t *e, const emu_polhemus_t *kind, const trace_t *t, size_t limit,
+                     after_end_t after)
 {
     memset(e, 0, sizeof *e);
+    e->kind = kind;
     pthread_mutex_init(&e->mu, NULL);
     e->trace = t;
     e->limit = limit;
@@ -117,11 +131,12 @@ static size_t put_f32(uint8_t *p, double v)
 }
 
 /* One 'PA' record (tracker-devices.md §2.3) for output list O*,2,4,1. */
-static size_t patriot_record(uint8_t *p, uint8_t station, const gaze_pose_t *pose)
+static size_t patriot_record(uint8_t *p, const char *tag, uint8_t station,
+                             const gaze_pose_t *pose)
 {
     size_t n = 0;
-    p[n++] = 'P';
-    p[n++] = 'A';
+    p[n++] = (uint8_t)tag[0];
+    p[n++] = (uint8_t)tag[1];
     p[n++] = station;
     p[n++] = 'P';
     p[n++] = 0;
@@ -156,8 +171,8 @@ static void patriot_command(emu_t *e, const uint8_t *cmd, size_t len)
         }
         size_t frame = e->frames_sent++;
         const gaze_sample_t *s = &e->trace->samples[frame];
-        size_t n = patriot_record(e->pending, 1, &s->head);
-        n += patriot_record(e->pending + n, 2, &s->hand);
+        size_t n = patriot_record(e->pending, e->kind->tag, 1, &s->head);
+        n += patriot_record(e->pending + n, e->kind->tag, 2, &s->hand);
         if (e->garble_every && frame % e->garble_every == e->garble_every - 1)
             e->pending[0] = e->pending[1] = 'X';
         if (e->hand_error_frame && frame == e->hand_error_frame)
@@ -219,7 +234,7 @@ static gboolean usb_ioctl(UMockdevIoctlBase *handler, UMockdevIoctlClient *clien
         UMockdevIoctlData *bd = umockdev_ioctl_data_resolve(
             ud, offsetof(struct usbdevfs_urb, buffer), (gsize)urb->buffer_length, &err);
         if (!bd || urb->type != USBDEVFS_URB_TYPE_BULK ||
-            (urb->endpoint != 0x02 && urb->endpoint != 0x82) ||
+            (urb->endpoint != e->kind->ep_out && urb->endpoint != e->kind->ep_in) ||
             e->n_flying == MAX_URBS || e->n_reapable == MAX_URBS) {
             umockdev_ioctl_client_complete(client, -1, EINVAL);
             if (bd)
@@ -227,7 +242,7 @@ static gboolean usb_ioctl(UMockdevIoctlBase *handler, UMockdevIoctlClient *clien
             g_object_unref(ud);
             break;
         }
-        if (urb->endpoint == 0x02) {
+        if (urb->endpoint == e->kind->ep_out) {
             patriot_command(e, bd->data, (size_t)urb->buffer_length);
             urb->actual_length = urb->buffer_length;
             urb->status = 0;
@@ -425,17 +440,17 @@ static char *hex_of(const uint8_t *b, size_t n)
 /* The sysfs/udev description of both emulated devices, in umockdev's
  * record format (g_free the result).  Also written out for the
  * umockdev-run test and shipped as tests/fixtures/devices/trackers.umockdev. */
-static char *trackers_umockdev_text(void)
+static char *trackers_umockdev_text(const emu_polhemus_t *k)
 {
     /* USB descriptors: device + configuration, written by hand.
-     * Patriot 0f44:ef12: interface 0 vendor class, bulk EP 0x02 / 0x82. */
-    static const uint8_t patriot_desc[] = {
-        0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x44, 0x0f, 0x12, 0xef, 0x00, 0x01,
-        0x01, 0x02, 0x00, 0x01,
+     * Polhemus 0f44:PID: interface 0 vendor class, two bulk endpoints. */
+    const uint8_t patriot_desc[] = {
+        0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x44, 0x0f,
+        (uint8_t)(k->pid & 0xff), (uint8_t)(k->pid >> 8), 0x00, 0x01, 0x01, 0x02, 0x00, 0x01,
         0x09, 0x02, 0x20, 0x00, 0x01, 0x01, 0x00, 0x80, 0x32,
         0x09, 0x04, 0x00, 0x00, 0x02, 0xff, 0x00, 0x00, 0x00,
-        0x07, 0x05, 0x02, 0x02, 0x40, 0x00, 0x00,
-        0x07, 0x05, 0x82, 0x02, 0x40, 0x00, 0x00,
+        0x07, 0x05, k->ep_out, 0x02, 0x40, 0x00, 0x00,
+        0x07, 0x05, k->ep_in, 0x02, 0x40, 0x00, 0x00,
     };
     /* Eye tracker 1209:0001 (pid.codes test id): one HID interface. */
     uint16_t rlen = (uint16_t)sizeof pp5_fixture_eye_desc;
@@ -453,10 +468,10 @@ static char *trackers_umockdev_text(void)
     const char *usb = "/devices/pci0000:00/0000:00:14.0/usb1";
     char *text = g_strdup_printf(
         "P: %s/1-2\nN: bus/usb/001/002\nE: DEVNAME=/dev/bus/usb/001/002\nE: DEVTYPE=usb_device\n"
-        "E: DRIVER=usb\nE: SUBSYSTEM=usb\nE: BUSNUM=001\nE: DEVNUM=002\nE: PRODUCT=f44/ef12/100\n"
-        "A: busnum=1\\n\nA: devnum=2\\n\nA: idVendor=0f44\\n\nA: idProduct=ef12\\n\n"
+        "E: DRIVER=usb\nE: SUBSYSTEM=usb\nE: BUSNUM=001\nE: DEVNUM=002\nE: PRODUCT=f44/%x/100\n"
+        "A: busnum=1\\n\nA: devnum=2\\n\nA: idVendor=0f44\\n\nA: idProduct=%04x\\n\n"
         "A: bConfigurationValue=1\\n\nA: speed=12\\n\nA: manufacturer=Polhemus\\n\n"
-        "A: product=Patriot (emulated)\\n\nH: descriptors=%s\n\n"
+        "A: product=%s\\n\nH: descriptors=%s\n\n"
 
         "P: %s/1-3/1-3:1.0/0003:1209:0001.0001/hidraw/hidraw0\nN: hidraw0\n"
         "E: DEVNAME=/dev/hidraw0\nE: SUBSYSTEM=hidraw\nA: dev=240:0\\n\n"
@@ -475,18 +490,20 @@ static char *trackers_umockdev_text(void)
         "A: busnum=1\\n\nA: devnum=3\\n\nA: idVendor=1209\\n\nA: idProduct=0001\\n\n"
         "A: bConfigurationValue=1\\n\nA: speed=12\\n\nA: manufacturer=pp5 tests\\n\n"
         "A: product=Emulated eye tracker\\n\nA: serial=ET0001\\n\nH: descriptors=%s\n",
-        usb, pat_hex, usb, usb, rd_hex, usb, usb, eye_hex);
+        usb, (unsigned)k->pid, (unsigned)k->pid, k->product, pat_hex, usb, usb, rd_hex, usb, usb,
+        eye_hex);
     free(pat_hex);
     free(eye_hex);
     free(rd_hex);
     return text;
 }
 
-static bool bed_open(bed_t *b, const trace_t *t, size_t limit, after_end_t after)
+static bool bed_open(bed_t *b, const emu_polhemus_t *kind, const trace_t *t, size_t limit,
+                     after_end_t after)
 {
     memset(b, 0, sizeof *b);
     b->hid_master = -1;
-    emu_init(&b->emu, t, limit, after);
+    emu_init(&b->emu, kind, t, limit, after);
     b->tb = umockdev_testbed_new();
     if (!b->tb)
         return false;
@@ -501,7 +518,7 @@ static bool bed_open(bed_t *b, const trace_t *t, size_t limit, after_end_t after
         fprintf(stderr, "    attach_ioctl: %s\n", err ? err->message : "?");
         return false;
     }
-    char *text = trackers_umockdev_text();
+    char *text = trackers_umockdev_text(kind);
     bool ok = umockdev_testbed_add_from_string(b->tb, text, &err);
     if (!ok)
         fprintf(stderr, "    add_from_string: %s\n", err ? err->message : "?");
@@ -757,7 +774,7 @@ static bool file_contains(const char *path, const char *needle)
 
 #define BED_OR_FAIL(b, trace, limit, after)                                              \
     do {                                                                                 \
-        if (!bed_open(b, trace, limit, after)) {                                         \
+        if (!bed_open(b, &EMU_PATRIOT, trace, limit, after)) {                                         \
             bed_close(b);                                                                \
             REQUIRE_MSG(false, "umockdev testbed could not be set up");                  \
         }                                                                                \
@@ -816,6 +833,38 @@ TEST(track_umockdev_polhemus_record_matches_the_trace)
     CHECK(got.complete);
     CHECK_EQ(got.count, 30);
     check_pose_prefix(&got, &want, 30);
+    trace_free(&got);
+    trace_free(&want);
+}
+
+/* The HS models use EP 0x04 / 0x88 and the Latus/HS 'LU' record tag. */
+TEST(track_umockdev_liberty_hs_endpoints_and_lu_records)
+{
+    const char *dir = pp5_test_outdir();
+    char in[600], outp[600], args[1400];
+    snprintf(in, sizeof in, "%s/poses-in-hs.trace", dir);
+    trace_t want;
+    make_trace(in, 12, true, &want);
+    bed_t b;
+    if (!bed_open(&b, &EMU_LIBERTY_HS, &want, 12, AFTER_END_SILENT)) {
+        bed_close(&b);
+        REQUIRE_MSG(false, "umockdev testbed could not be set up");
+    }
+    child_t c;
+    snprintf(outp, sizeof outp, "%s/hs-out.trace", dir);
+    snprintf(args, sizeof args, "track record --device polhemus:1:2 --out %s --max-samples 12 "
+             "--rate 500 --timeout-ms 2000", outp);
+    REQUIRE(child_start(&c, dir, args));
+    int rc = child_wait(&c, CHILD_DEADLINE_S);
+    bed_close(&b);
+    if (rc != 0)
+        show_stderr(&c);
+    CHECK_MSG(rc == 0, "pp5 exited %d (-1: hang, killed)", rc);
+    CHECK(file_contains(c.err, "Liberty HS"));
+    trace_t got;
+    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
+    CHECK_EQ(got.count, 12);
+    check_pose_prefix(&got, &want, 12);
     trace_free(&got);
     trace_free(&want);
 }
@@ -1175,7 +1224,7 @@ static bool write_fixture_files(const char *dir, const trace_t *t, size_t n_repo
     FILE *f = fopen(path, "w");
     if (!f)
         return false;
-    char *text = trackers_umockdev_text();
+    char *text = trackers_umockdev_text(&EMU_PATRIOT);
     fputs(text, f);
     g_free(text);
     fclose(f);
