@@ -70,8 +70,10 @@ pp5_status_t trace_header_check(const trace_header_t *h)
         return pp5_fail(PP5_E_FORMAT, "geometry needs screen_mm and distance_mm, or px_per_deg");
     if (!isfinite(g->width_mm) || !isfinite(g->height_mm) || !isfinite(g->distance_mm) ||
         !isfinite(g->px_per_deg) || g->width_mm < 0 || g->height_mm < 0 || g->distance_mm < 0 ||
-        g->px_per_deg < 0)
-        return pp5_fail(PP5_E_RANGE, "screen geometry has a negative or non-finite value");
+        g->px_per_deg < 0 || g->width_mm > 1e6 || g->height_mm > 1e6 || g->distance_mm > 1e6 ||
+        g->px_per_deg > 1e6)
+        return pp5_fail(PP5_E_RANGE, "screen geometry has a negative, non-finite or absurd "
+                        "value (mm and px/deg must be in 0..1e6)");
     return PP5_OK;
 }
 
@@ -703,8 +705,8 @@ static pp5_status_t write_pose(trace_writer_t *w, const gaze_pose_t *p, bool pre
     pp5_status_t st = PP5_OK;
     for (int k = 0; k < 6 && st == PP5_OK; k++) {
         char a[48];
-        if (present && !isfinite(v[k]))
-            return pp5_fail(PP5_E_RANGE, "%s: non-finite pose value", w->path);
+        if (present && !(isfinite(v[k]) && fabs(v[k]) <= 1e9))
+            return pp5_fail(PP5_E_RANGE, "%s: non-finite or absurd pose value", w->path);
         fmt_value(a, sizeof a, present ? v[k] : NAN);
         st = wbuf_printf(w, "\t%s", a);
     }
@@ -719,8 +721,9 @@ pp5_status_t trace_writer_append(trace_writer_t *w, const gaze_sample_t *s)
         return pp5_fail(PP5_E_FORMAT, "%s: sample time %.6f ms is negative or before the "
                         "previous one", w->path, s->t_ns / 1e6);
     bool valid = (s->flags & GAZE_FLAG_VALID) != 0;
-    if (valid && !(isfinite(s->x_px) && isfinite(s->y_px)))
-        return pp5_fail(PP5_E_RANGE, "%s: a valid sample has non-finite gaze", w->path);
+    if (valid && !(isfinite(s->x_px) && isfinite(s->y_px) && fabs(s->x_px) <= 1e9 &&
+                   fabs(s->y_px) <= 1e9))
+        return pp5_fail(PP5_E_RANGE, "%s: a valid sample has non-finite or absurd gaze", w->path);
     if (s->label < 0 || s->label > GAZE_LABEL_MAX)
         return pp5_fail(PP5_E_RANGE, "%s: label %d outside 0..%d", w->path, s->label,
                         GAZE_LABEL_MAX);
