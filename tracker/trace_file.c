@@ -25,6 +25,9 @@
 #include <unistd.h>
 #include <zlib.h>
 
+/* Off-screen gaze is real data; values beyond 100 screen sizes are refused. */
+#define TRACE_GAZE_LIMIT(g) (100.0 * ((g)->width_px + (g)->height_px))
+
 static const char *const pose_suffix[6] = {"x_mm", "y_mm", "z_mm", "az_deg", "el_deg", "roll_deg"};
 
 void trace_init(trace_t *t)
@@ -319,7 +322,7 @@ static pp5_status_t parse_sample(char *line, const char *name, int lineno, const
                             "(use status lost or blink)", name, lineno);
         /* Off-screen gaze is real data (PROVENANCE: up to 1.35 screen heights);
          * only values absurdly far away are refused. */
-        double lim = 100.0 * (t->header.geometry.width_px + t->header.geometry.height_px);
+        double lim = TRACE_GAZE_LIMIT(&t->header.geometry);
         if (fabs(x) > lim || fabs(y) > lim)
             return pp5_fail(PP5_E_RANGE, "%s:%d: gaze %g,%g is absurdly far off the screen", name,
                             lineno, x, y);
@@ -650,6 +653,7 @@ pp5_status_t trace_writer_open(trace_writer_t *w, const char *path, const trace_
         return pp5_fail(PP5_E_IO, "%s: cannot create: %s", path, strerror(errno));
     w->has_head = has_head;
     w->has_hand = has_hand;
+    w->limit_px = TRACE_GAZE_LIMIT(&h->geometry);
     const gaze_geometry_t *g = &h->geometry;
     char a[32], b[32];
     st = wbuf_printf(w, "%s\n# source: %s\n", TRACE_MAGIC, h->source[0] ? h->source : "unknown");
@@ -721,8 +725,8 @@ pp5_status_t trace_writer_append(trace_writer_t *w, const gaze_sample_t *s)
         return pp5_fail(PP5_E_FORMAT, "%s: sample time %.6f ms is negative or before the "
                         "previous one", w->path, s->t_ns / 1e6);
     bool valid = (s->flags & GAZE_FLAG_VALID) != 0;
-    if (valid && !(isfinite(s->x_px) && isfinite(s->y_px) && fabs(s->x_px) <= 1e9 &&
-                   fabs(s->y_px) <= 1e9))
+    if (valid && !(isfinite(s->x_px) && isfinite(s->y_px) && fabs(s->x_px) <= w->limit_px &&
+                   fabs(s->y_px) <= w->limit_px))
         return pp5_fail(PP5_E_RANGE, "%s: a valid sample has non-finite or absurd gaze", w->path);
     if (s->label < 0 || s->label > GAZE_LABEL_MAX)
         return pp5_fail(PP5_E_RANGE, "%s: label %d outside 0..%d", w->path, s->label,

@@ -65,6 +65,7 @@ typedef struct {
     size_t len, cap;
     bool has_head, has_hand;
     int64_t last_t_ns;
+    double limit_px;        /* |gaze| above this is refused, as the reader does */
     size_t samples;
     bool started;
     char path[TRACE_TEXT_MAX];
