@@ -365,3 +365,45 @@ TEST(replay_refresh_waits_for_the_next_vertical_blank)
     replay_result_free(&r);
     trace_free(&t);
 }
+
+static double two_blocks(double t) { return t < 1.0 ? -5.0 : 5.0; }
+
+TEST(replay_frames_across_a_recording_gap_are_not_scored)
+{
+    /* Block A 0..0.999 s at -5°, then nothing until block B 4.000..4.999 s at
+     * +5° (like EyeLink recording blocks).  Frame k starts at 30 + 50.37 k ms and
+     * is shown 70.37 ms later: frames 78 and 79 are shown at 4032.6 and
+     * 4083.0 ms, inside block B, but were started before its first sample
+     * arrived (4030 ms), so they carry block A's gaze: not scored.  Frame 80
+     * starts at 4059.6 ms with B's gaze. */
+    trace_t a, t;
+    make_trace(&a, 5.0, two_blocks);
+    trace_init(&t);
+    t.header = a.header;
+    for (size_t i = 0; i < a.count; i++) {
+        int64_t ms = a.samples[i].t_ns / 1000000;
+        if (ms < 1000 || ms >= 4000)
+            REQUIRE(trace_append(&t, &a.samples[i]) == PP5_OK);
+    }
+    replay_params_t p;
+    replay_defaults(&p);
+    p.tracker_latency_s = 0.030;
+    p.display_latency_s = 0.020;
+    replay_constant_cost_t c = {0.05037};
+    replay_result_t r;
+    REQUIRE(replay_run(&t, &p, replay_constant_cost, &c, NULL, NULL, &r) == PP5_OK);
+    CHECK_EQ(r.summary.frames_after_gap, 2);
+    CHECK(r.frames[78].after_gap && r.frames[79].after_gap && !r.frames[80].after_gap);
+    CHECK(isnan(r.frames[78].error_deg));
+    CHECK_NEAR(r.frames[80].error_deg, 0.0, 1e-9);
+    CHECK(isnan(r.frames[40].error_deg) && !r.frames[40].after_gap);   /* shown in the gap */
+    CHECK_NEAR(r.summary.max_error_deg, 0.0, 1e-9);
+    replay_result_free(&r);
+    p.gap_s = 10;                 /* no gap that long: the same frames now score 10° */
+    REQUIRE(replay_run(&t, &p, replay_constant_cost, &c, NULL, NULL, &r) == PP5_OK);
+    CHECK_EQ(r.summary.frames_after_gap, 0);
+    CHECK_NEAR(r.frames[78].error_deg, 10.0, 1e-9);
+    replay_result_free(&r);
+    trace_free(&a);
+    trace_free(&t);
+}

@@ -41,6 +41,8 @@ static void usage(FILE *out)
         "  --latency-ms T           shorthand: tracker latency T, display latency 0\n"
         "  --radius-deg R           full-resolution radius (default 6: the paper's 12 deg circle)\n"
         "  --refresh-hz HZ          images wait for the next refresh (e.g. 60); default: none\n"
+        "  --gap-s G                a pause in the samples longer than G s (default 1) splits\n"
+        "                           the trace: frames whose gaze predates it are not scored\n"
         "  --predict P              none (default), linear, alphabeta, kalman\n"
         "  --timing-only            do not ask the frame source for images\n"
         "  --max-frames N           stop after N frames\n"
@@ -75,16 +77,16 @@ static pp5_status_t write_csv(const char *path, const replay_result_t *r)
         return pp5_fail(PP5_E_IO, "%s: cannot create", path);
     fprintf(f, "frame,start_ms,end_ms,display_ms,shown_until_ms,sample_ms,used_x_px,used_y_px,"
                "spot_x_px,spot_y_px,true_x_px,true_y_px,error_deg,inside_ms,valid_ms,frame_ms,"
-               "rays,ring_bytes\n");
+               "rays,ring_bytes,after_gap\n");
     for (size_t k = 0; k < r->count; k++) {
         const replay_frame_t *q = &r->frames[k];
         fprintf(f, "%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.3f,%.3f,"
-                   "%.3f,%llu,%llu\n",
+                   "%.3f,%llu,%llu,%d\n",
                 q->index, q->start_s * 1e3, q->end_s * 1e3, q->display_s * 1e3,
                 q->shown_until_s * 1e3, q->sample_t_s * 1e3, q->used_x_px, q->used_y_px,
                 q->spot_x_px, q->spot_y_px, q->true_x_px, q->true_y_px, q->error_deg,
                 q->inside_s * 1e3, q->valid_s * 1e3, q->frame_s * 1e3,
-                (unsigned long long)q->rays, (unsigned long long)q->ring_bytes);
+                (unsigned long long)q->rays, (unsigned long long)q->ring_bytes, q->after_gap ? 1 : 0);
     }
     if (fclose(f) != 0)
         return pp5_fail(PP5_E_IO, "%s: write failed", path);
@@ -111,12 +113,14 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_kv_double(&j, "display_latency_ms", p->display_latency_s * 1e3);
     json_kv_double(&j, "fullres_radius_deg", p->fullres_radius_deg);
     json_kv_double(&j, "refresh_hz", p->refresh_hz);
+    json_kv_double(&j, "gap_s", p->gap_s);
     json_kv_string(&j, "predict", predict_kind_name(p->predict.kind));
     json_kv_bool(&j, "timing_only", p->timing_only);
     json_key(&j, "summary");
     json_begin_object(&j);
     json_kv_uint(&j, "frames", s->frames);
     json_kv_uint(&j, "frames_with_error", s->frames_with_error);
+    json_kv_uint(&j, "frames_after_gap", s->frames_after_gap);
     json_kv_double(&j, "trace_s", s->trace_s);
     json_kv_double(&j, "valid_display_s", s->valid_display_s);
     json_kv_double(&j, "inside_fraction", s->inside_fraction);
@@ -184,7 +188,7 @@ static int cmd_replay(int argc, char **argv)
         {"timing-only", no_argument, 0, 'T'}, {"max-frames", required_argument, 0, 'n'},
         {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
         {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
-        {"refresh-hz", required_argument, 0, 'R'},
+        {"refresh-hz", required_argument, 0, 'R'}, {"gap-s", required_argument, 0, 'g'},
         {"frames-dir", required_argument, 0, 'F'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
@@ -209,6 +213,7 @@ static int cmd_replay(int argc, char **argv)
             break;
         case 'F': frames_dir = optarg; break;
         case 'R': st = cliopt_double("--refresh-hz", optarg, 0, 10000, &p.refresh_hz); break;
+        case 'g': st = cliopt_double("--gap-s", optarg, 0.001, 1e6, &p.gap_s); break;
         case 't':
             if ((st = cliopt_double("--tracker-latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK)
                 p.tracker_latency_s = ms / 1e3;
@@ -286,8 +291,9 @@ static int cmd_replay(int argc, char **argv)
         printf("  frames: %zu (%.2f frames/s) over %.3f s of trace\n", s->frames, s->frames_per_s,
                s->trace_s);
         printf("  error at display time: mean %.2f deg, 95th percentile %.2f deg, max %.2f deg "
-               "(%zu frames measurable)\n", s->mean_error_deg, s->p95_error_deg, s->max_error_deg,
-               s->frames_with_error);
+               "(%zu frames measurable; %zu not scored: shown after a recording gap > %.1f s)\n",
+               s->mean_error_deg, s->p95_error_deg, s->max_error_deg, s->frames_with_error,
+               s->frames_after_gap, p.gap_s);
         printf("  true gaze inside the %.1f deg full-resolution radius: %.1f %% of %.3f s with "
                "gaze data\n", p.fullres_radius_deg, 100.0 * s->inside_fraction,
                s->valid_display_s);

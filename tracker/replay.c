@@ -86,6 +86,7 @@ void replay_defaults(replay_params_t *p)
     p->tracker_latency_s = REPLAY_DEFAULT_TRACKER_LATENCY_S;
     p->display_latency_s = REPLAY_DEFAULT_DISPLAY_LATENCY_S;
     p->fullres_radius_deg = ANGLES_PAPER_FULLRES_DIAMETER_DEG / 2.0;
+    p->gap_s = 1.0;
     angles_paper_geometry(&p->display);
     predict_defaults(&p->predict, PREDICT_NONE);
 }
@@ -125,6 +126,7 @@ double replay_percentile(const double *v, size_t n, double q)
 typedef struct {
     double t_s;
     double ax, ay;     /* NaN when invalid */
+    uint32_t segment;  /* counts the recording gaps (> gap_s) before this sample */
 } rsample_t;
 
 static bool sample_ok(const rsample_t *s)
@@ -218,7 +220,7 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         return pp5_fail(PP5_E_RANGE, "replay needs at least 2 samples, the trace has %zu",
                         trace->count);
     if (!(p->tracker_latency_s >= 0 && p->display_latency_s >= 0 && p->fullres_radius_deg > 0) ||
-        !(p->refresh_hz >= 0 && p->refresh_hz <= 10000) ||
+        !(p->refresh_hz >= 0 && p->refresh_hz <= 10000) || !(p->gap_s > 0) ||
         !isfinite(p->tracker_latency_s) || !isfinite(p->display_latency_s))
         return pp5_fail(PP5_E_CONFIG, "replay: latencies must be >= 0 and the radius > 0");
     gaze_geometry_t rec, disp;
@@ -242,6 +244,8 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
             s[i].ax = s[i].ay = NAN;
         }
     }
+    for (size_t i = 0; i < n; i++)
+        s[i].segment = i == 0 ? 0 : s[i - 1].segment + (s[i].t_s - s[i - 1].t_s > p->gap_s ? 1 : 0);
     double interval_s = 1.0 / trace->header.sample_rate_hz;
     double half_w_deg, half_h_deg;   /* rendered display edges, in angles */
     angles_px_to_deg(&disp, disp.width_px, disp.height_px, &half_w_deg, &half_h_deg);
@@ -254,6 +258,7 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
     size_t next = 0;                 /* first sample not yet fed */
     bool have_gaze = false;
     double hold_ax = 0, hold_ay = 0, used_sample_t = NAN;
+    uint32_t used_segment = 0;
     size_t hint = 0;
     double *errors = NULL;
     size_t nerr = 0;
@@ -268,6 +273,7 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
                 hold_ax = s[next].ax;
                 hold_ay = s[next].ay;
                 used_sample_t = s[next].t_s;
+                used_segment = s[next].segment;
                 have_gaze = true;
             }
             next++;
@@ -324,7 +330,10 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         f.true_x_px = f.true_y_px = f.error_deg = NAN;
         if (true_gaze_at(s, n, f.display_s, interval_s, &hint, &tax, &tay)) {
             angles_deg_to_px(&rec, tax, tay, &f.true_x_px, &f.true_y_px);
-            if (have_gaze)
+            /* Across a recording gap the held gaze is from another recording
+             * block: not a latency error, so not scored. */
+            f.after_gap = have_gaze && s[hint].segment != used_segment;
+            if (have_gaze && !f.after_gap)
                 f.error_deg = angles_between_deg(use_ax, use_ay, tax, tay);
         }
         f.shown_until_s = f.display_s;   /* set when the next image is known */
@@ -352,8 +361,9 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         replay_frame_t *f = &out->frames[k];
         double sax, say;
         angles_px_to_deg(&rec, f->used_x_px, f->used_y_px, &sax, &say);
-        if (!isnan(f->sample_t_s))
+        if (!isnan(f->sample_t_s) && !f->after_gap)
             measure_inside(s, n, interval_s, p->fullres_radius_deg, sax, say, f, &hint);
+        sum->frames_after_gap += f->after_gap;
         inside += f->inside_s;
         sum->valid_display_s += f->valid_s;
         if (!isnan(f->error_deg)) {

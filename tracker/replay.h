@@ -98,6 +98,10 @@ typedef struct {
     double tracker_latency_s;
     double display_latency_s;
     double fullres_radius_deg;   /* default 6: the paper's 12° full-resolution circle (§5) */
+    double gap_s;                /* a pause in the samples longer than this (default 1 s:
+                                    the gaps between EyeLink recording blocks) splits the
+                                    trace; a frame whose gaze comes from before such a gap
+                                    and is shown after it is counted but not scored */
     double refresh_hz;           /* > 0: an image waits for the next refresh (a multiple of
                                     1/refresh_hz of trace time) before the display latency;
                                     0 (default): shown as soon as the frame ends */
@@ -116,7 +120,8 @@ typedef struct {
     double used_x_px, used_y_px;   /* gaze used, recording pixels (after prediction) */
     double spot_x_px, spot_y_px;   /* sweet spot handed to the renderer, display pixels */
     double true_x_px, true_y_px;   /* true gaze at display time, recording pixels (NaN: no data) */
-    double error_deg;              /* NaN when either gaze is unknown */
+    double error_deg;              /* NaN when either gaze is unknown, or after_gap */
+    bool after_gap;                /* gaze from before a recording gap (not scored) */
     double inside_s, valid_s;      /* over [display_s, shown_until_s) */
     double frame_s;
     uint64_t rays, ring_bytes;
@@ -125,6 +130,7 @@ typedef struct {
 typedef struct {
     size_t frames;
     size_t frames_with_error;      /* frames where the error could be measured */
+    size_t frames_after_gap;       /* frames not scored: gaze from before a recording gap */
     double trace_s;                /* span replayed */
     double valid_display_s;        /* display time with true gaze known */
     double inside_fraction;        /* inside time / valid display time */
