@@ -3,7 +3,7 @@
  *   - sample lines start with a digit: "<time> <x> <y> <pupil> ..." (monocular)
  *     or "<time> <xl> <yl> <pl> <xr> <yr> <pr> ..." (binocular); velocity,
  *     resolution, CR flags and Remote columns may follow and are ignored;
- *     "." is missing data;
+ *     "." is missing data (as is NaN, which `edf2asc -miss NaN` writes);
  *   - which eyes: the "START <t> [LEFT] [RIGHT] SAMPLES ..." and "SAMPLES GAZE
  *     <eyes> ... RATE <hz>" lines of each recording block;
  *   - time: integer ms of the tracker clock; at 2000 Hz two consecutive samples
@@ -144,12 +144,12 @@ pp5_status_t import_eyelink(const char *text, size_t len, const char *name,
                 const char *xs = f[idx[e][0]], *ys = f[idx[e][1]];
                 if (is_missing(xs) || is_missing(ys))
                     continue;
-                if (!import_parse_double(xs, &eyes[e][0]) || !import_parse_double(ys, &eyes[e][1]) ||
-                    !isfinite(eyes[e][0]) || !isfinite(eyes[e][1])) {
+                if (!import_parse_double(xs, &eyes[e][0]) || !import_parse_double(ys, &eyes[e][1])) {
                     bad = true;
                     break;
                 }
-                have[e] = true;
+                /* `edf2asc -miss NaN` writes NaN for missing data. */
+                have[e] = isfinite(eyes[e][0]) && isfinite(eyes[e][1]);
             }
             if (bad) {
                 st = pp5_fail(PP5_E_FORMAT, "%s:%d: gaze is neither a number nor '.'", name,
