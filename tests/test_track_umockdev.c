@@ -960,7 +960,7 @@ TEST(track_umockdev_polhemus_bad_records_are_counted)
     CHECK_MSG(rc == 0, "pp5 exited %d (-1: hang, killed)", rc);
     CHECK_MSG(file_contains(c.err, "malformed transfers 3"), "garbled transfers not counted");
     CHECK_MSG(file_contains(c.err, "station errors 1"), "station error not counted");
-    CHECK_MSG(file_contains(c.err, "station 2 reports error 'E'"), "station error not reported");
+    CHECK_MSG(file_contains(c.err, "station 2 reported error 'E'"), "station error not reported");
     trace_t got;
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
     REQUIRE(got.count == 30);

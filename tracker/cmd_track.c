@@ -142,13 +142,11 @@ static int64_t now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-/* The recording loop shared by both device kinds: pulls samples through
- * `next`, appends, flushes every N, stops on time/count/signal/error. */
-typedef pp5_status_t (*next_fn)(void *dev, gaze_sample_t *s, int64_t t0_ns,
-                                const record_opts_t *o);
-
-static pp5_status_t record_loop(trace_writer_t *w, void *dev, next_fn next,
-                                const record_opts_t *o, size_t *n_out)
+/* The recording loop shared by both device kinds: pulls samples from the
+ * device's gaze_source_t, appends, flushes every N, and stops on time,
+ * count, signal or error. */
+static pp5_status_t record_loop(trace_writer_t *w, gaze_source_t *src, const record_opts_t *o,
+                                size_t *n_out)
 {
     int64_t t0 = now_ns();
     size_t n = 0, since_flush = 0;
@@ -159,7 +157,10 @@ static pp5_status_t record_loop(trace_writer_t *w, void *dev, next_fn next,
         if (o->max_samples > 0 && (long)n >= o->max_samples)
             break;
         gaze_sample_t s;
-        st = next(dev, &s, t0, o);
+        bool got = false;
+        st = gaze_source_next(src, &s, &got);
+        if (st == PP5_OK && !got)
+            st = pp5_fail(PP5_E_DEVICE, "%s: the stream ended", src->name);
         if (st != PP5_OK) {
             if (stop_requested) /* a signal interrupted the read: a clean stop */
                 st = PP5_OK;
@@ -180,69 +181,6 @@ static pp5_status_t record_loop(trace_writer_t *w, void *dev, next_fn next,
     }
     *n_out = n;
     return st;
-}
-
-static pp5_status_t hid_next(void *dev, gaze_sample_t *s, int64_t t0_ns, const record_opts_t *o)
-{
-    bool got = false;
-    pp5_status_t st = gaze_source_next(dev, s, &got);
-    if (st == PP5_OK && !got)
-        st = pp5_fail(PP5_E_DEVICE, "the eye tracker stream ended");
-    return st;
-}
-
-typedef struct {
-    polhemus_t *p;
-    int64_t last_ns;
-} polhemus_rec_t;
-
-static void pose_from(const polhemus_record_t *r, gaze_pose_t *pose)
-{
-    for (int i = 0; i < 3; i++)
-        pose->pos_mm[i] = r->pos_cm[i] * 10.0;
-    pose->azimuth_deg = r->euler_deg[0];
-    pose->elevation_deg = r->euler_deg[1];
-    pose->roll_deg = r->euler_deg[2];
-}
-
-static pp5_status_t polhemus_next(void *dev, gaze_sample_t *s, int64_t t0_ns,
-                                  const record_opts_t *o)
-{
-    polhemus_rec_t *pr = dev;
-    /* Pace polls at the nominal rate (the Patriot updates at 60 Hz,
-     * tracker-devices.md §2.4); polled records carry no device clock, so
-     * the host's monotonic clock stamps them. */
-    int64_t period = (int64_t)(1e9 / o->rate_hz);
-    int64_t due = pr->last_ns + period;
-    int64_t now = now_ns();
-    if (pr->last_ns && due > now) {
-        struct timespec ts = {(time_t)((due - now) / 1000000000), (long)((due - now) % 1000000000)};
-        nanosleep(&ts, NULL);
-    }
-    polhemus_record_t recs[POLHEMUS_MAX_STATIONS];
-    size_t n = 0;
-    pp5_status_t st = polhemus_poll(pr->p, recs, POLHEMUS_MAX_STATIONS, &n);
-    if (st != PP5_OK)
-        return st;
-    int64_t t = now_ns();
-    pr->last_ns = t;
-    gaze_sample_invalid(s, t - t0_ns);
-    for (size_t i = 0; i < n; i++) {
-        if (!polhemus_record_ok(&recs[i])) {
-            fprintf(stderr, "pp5 track: station %u reports error '%c' (0x%02x)\n",
-                    recs[i].station, recs[i].error >= 32 && recs[i].error < 127 ? recs[i].error : '?',
-                    recs[i].error);
-            continue;
-        }
-        if (recs[i].station == o->head_station) {
-            pose_from(&recs[i], &s->head);
-            s->flags |= GAZE_FLAG_HEAD;
-        } else if (recs[i].station == o->hand_station) {
-            pose_from(&recs[i], &s->hand);
-            s->flags |= GAZE_FLAG_HAND;
-        }
-    }
-    return PP5_OK;
 }
 
 static int finish(const char *what, pp5_status_t st, trace_writer_t *w, size_t n,
@@ -306,7 +244,7 @@ static int record_hid(const char *path, const record_opts_t *o)
         return cliopt_report("track", st);
     }
     size_t n = 0;
-    st = record_loop(&w, src, hid_next, o, &n);
+    st = record_loop(&w, src, o, &n);
     const hid_eye_stats_t *hs = hid_eye_stats(dev);
     char stats[256];
     snprintf(stats, sizeof stats,
@@ -321,13 +259,19 @@ static int record_hid(const char *path, const record_opts_t *o)
 
 static int record_polhemus(const char *bus_addr, const record_opts_t *o)
 {
-    polhemus_rec_t pr = {0};
-    pp5_status_t st = polhemus_open(bus_addr, (int)o->timeout_ms, &pr.p);
+    polhemus_t *p = NULL;
+    pp5_status_t st = polhemus_open(bus_addr, (int)o->timeout_ms, &p);
     if (st != PP5_OK)
         return cliopt_report("track", st);
+    const char *model = polhemus_model(p)->name;
+    gaze_source_t *src = NULL;
+    st = polhemus_source_open(p, (int)o->head_station, (int)o->hand_station, o->rate_hz, &src);
+    if (st != PP5_OK) {
+        polhemus_close(p);
+        return cliopt_report("track", st);
+    }
     trace_header_t h;
     memset(&h, 0, sizeof h);
-    const char *model = polhemus_model(pr.p)->name;
     snprintf(h.source, sizeof h.source, "pp5 track record --device polhemus%s%s",
              bus_addr ? ":" : "", bus_addr ? bus_addr : "");
     snprintf(h.tracker, sizeof h.tracker, "%s (head station %ld, hand station %ld)", model,
@@ -341,18 +285,26 @@ static int record_polhemus(const char *bus_addr, const record_opts_t *o)
     trace_writer_t w;
     st = trace_writer_open(&w, o->out, &h, true, true);
     if (st != PP5_OK) {
-        polhemus_close(pr.p);
+        gaze_source_close(src);
         return cliopt_report("track", st);
     }
     size_t n = 0;
-    st = record_loop(&w, &pr, polhemus_next, o, &n);
-    const polhemus_stats_t *ps = polhemus_stats(pr.p);
-    char stats[256];
-    snprintf(stats, sizeof stats, "; polls %llu, records %llu, station errors %llu, malformed transfers %llu",
-             (unsigned long long)ps->polls, (unsigned long long)ps->records,
-             (unsigned long long)ps->record_errors, (unsigned long long)ps->malformed_transfers);
+    st = record_loop(&w, src, o, &n);
+    const polhemus_stats_t *ps = polhemus_stats(p);
+    char stats[320];
+    int len = snprintf(stats, sizeof stats,
+                       "; polls %llu, records %llu, station errors %llu, malformed transfers %llu",
+                       (unsigned long long)ps->polls, (unsigned long long)ps->records,
+                       (unsigned long long)ps->record_errors,
+                       (unsigned long long)ps->malformed_transfers);
+    if (ps->record_errors && len > 0 && (size_t)len < sizeof stats) {
+        uint8_t code = ps->last_error_code;
+        snprintf(stats + len, sizeof stats - (size_t)len,
+                 " (last: station %u reported error '%c', 0x%02x)", ps->last_error_station,
+                 code >= 32 && code < 127 ? code : '?', code);
+    }
     int rc = finish(model, st, &w, n, stats);
-    polhemus_close(pr.p);
+    gaze_source_close(src);
     return rc;
 }
 

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #ifdef PP5_HAVE_LIBUSB
 #include <libusb.h>
@@ -294,8 +295,11 @@ pp5_status_t polhemus_poll(polhemus_t *p, polhemus_record_t *recs, size_t max, s
         if (st == PP5_OK) {
             p->stats.records += *n;
             for (size_t i = 0; i < *n; i++)
-                if (!polhemus_record_ok(&recs[i]))
+                if (!polhemus_record_ok(&recs[i])) {
                     p->stats.record_errors++;
+                    p->stats.last_error_station = recs[i].station;
+                    p->stats.last_error_code = recs[i].error;
+                }
             return PP5_OK;
         }
         p->stats.malformed_transfers++;
@@ -351,3 +355,108 @@ pp5_status_t polhemus_poll(polhemus_t *p, polhemus_record_t *recs, size_t max, s
 void polhemus_close(polhemus_t *p) {}
 
 #endif
+
+/* ---- gaze_source_t over a tracker ---- */
+
+typedef struct {
+    polhemus_t *p;
+    int head_station, hand_station;
+    int64_t period_ns, t0_ns, last_ns;
+} polhemus_src_t;
+
+static int64_t mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+static void pose_from(const polhemus_record_t *r, gaze_pose_t *pose)
+{
+    for (int i = 0; i < 3; i++)
+        pose->pos_mm[i] = r->pos_cm[i] * 10.0; /* U1: the tracker speaks cm */
+    pose->azimuth_deg = r->euler_deg[0];
+    pose->elevation_deg = r->euler_deg[1];
+    pose->roll_deg = r->euler_deg[2];
+}
+
+static pp5_status_t src_next(gaze_source_t *src, gaze_sample_t *out, bool *got)
+{
+    polhemus_src_t *s = src->impl;
+    *got = false;
+    /* pace the polls: the Patriot updates at 60 Hz, the Liberty at 240 Hz
+     * (tracker-devices.md §2.4); polling faster only repeats records */
+    int64_t now = mono_ns();
+    if (s->last_ns && s->last_ns + s->period_ns > now) {
+        int64_t wait = s->last_ns + s->period_ns - now;
+        struct timespec ts = {(time_t)(wait / 1000000000), (long)(wait % 1000000000)};
+        nanosleep(&ts, NULL);
+    }
+    polhemus_record_t recs[POLHEMUS_MAX_STATIONS];
+    size_t n = 0;
+    pp5_status_t st = polhemus_poll(s->p, recs, POLHEMUS_MAX_STATIONS, &n);
+    if (st != PP5_OK)
+        return st;
+    int64_t t = mono_ns();
+    if (!s->last_ns)
+        s->t0_ns = t;
+    s->last_ns = t;
+    gaze_sample_invalid(out, t - s->t0_ns);
+    for (size_t i = 0; i < n; i++) {
+        if (!polhemus_record_ok(&recs[i]))
+            continue;
+        if (recs[i].station == s->head_station) {
+            pose_from(&recs[i], &out->head);
+            out->flags |= GAZE_FLAG_HEAD;
+        } else if (recs[i].station == s->hand_station) {
+            pose_from(&recs[i], &out->hand);
+            out->flags |= GAZE_FLAG_HAND;
+        }
+    }
+    *got = true;
+    return PP5_OK;
+}
+
+static void src_close(gaze_source_t *src)
+{
+    if (!src)
+        return;
+    polhemus_src_t *s = src->impl;
+    if (s)
+        polhemus_close(s->p);
+    free(s);
+    free(src);
+}
+
+static const gaze_source_ops_t polhemus_source_ops = {src_next, src_close};
+
+pp5_status_t polhemus_source_open(polhemus_t *p, int head_station, int hand_station,
+                                  double rate_hz, gaze_source_t **out)
+{
+    *out = NULL;
+    if (!(rate_hz > 0 && rate_hz <= 10000))
+        return pp5_fail(PP5_E_CONFIG, "Polhemus poll rate %g Hz outside (0, 10000]", rate_hz);
+    gaze_source_t *src = calloc(1, sizeof *src);
+    polhemus_src_t *s = calloc(1, sizeof *s);
+    if (!src || !s) {
+        free(src);
+        free(s);
+        return pp5_fail(PP5_E_NOMEM, "out of memory");
+    }
+    s->p = p;
+    s->head_station = head_station;
+    s->hand_station = hand_station;
+    s->period_ns = (int64_t)(1e9 / rate_hz);
+    src->ops = &polhemus_source_ops;
+    src->impl = s;
+    const polhemus_model_t *m = polhemus_model(p);
+    src->name = m ? m->name : "Polhemus";
+    src->sample_rate_hz = rate_hz;
+    *out = src;
+    return PP5_OK;
+}
+
+polhemus_t *polhemus_source_device(gaze_source_t *src)
+{
+    return src && src->impl ? ((polhemus_src_t *)src->impl)->p : NULL;
+}

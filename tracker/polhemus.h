@@ -26,6 +26,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gaze.h"
 #include "status.h"
 
 #define POLHEMUS_VID 0x0f44
@@ -79,6 +80,7 @@ typedef struct polhemus polhemus_t;
 
 typedef struct {
     uint64_t polls, records, record_errors, malformed_transfers;
+    uint8_t last_error_station, last_error_code; /* the latest error indicator */
 } polhemus_stats_t;
 
 /* Opens the first Patriot/Liberty (or the one at "BUS:ADDR"), claims
@@ -94,5 +96,16 @@ const polhemus_stats_t *polhemus_stats(const polhemus_t *p);
 enum { POLHEMUS_MAX_BAD_IN_A_ROW = 20 };
 pp5_status_t polhemus_poll(polhemus_t *p, polhemus_record_t *recs, size_t max, size_t *n);
 void polhemus_close(polhemus_t *p);
+
+/* A gaze_source_t over an open tracker (takes ownership of `p`): one poll
+ * per sample, paced at rate_hz (polled records carry no device clock, so
+ * the host's monotonic clock stamps them, relative to the first sample).
+ * Samples have no gaze; head and hand poses (mm, degrees) come from the
+ * given stations, and a station whose record carries an error indicator is
+ * left out of that sample (counted in polhemus_stats). */
+pp5_status_t polhemus_source_open(polhemus_t *p, int head_station, int hand_station,
+                                  double rate_hz, gaze_source_t **out);
+/* The tracker behind a source made by polhemus_source_open. */
+polhemus_t *polhemus_source_device(gaze_source_t *src);
 
 #endif
