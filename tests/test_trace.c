@@ -239,6 +239,16 @@ TEST(trace_writer_refuses_bad_samples)
     trace_free(&t);
     h.sample_rate_hz = 0;
     CHECK(trace_writer_open(&w, path, &h, false, false) != PP5_OK);
+    /* abandon: what was appended is kept, without the end line */
+    h.sample_rate_hz = 100;
+    REQUIRE(trace_writer_open(&w, path, &h, false, false) == PP5_OK);
+    s.t_ns = 1000;
+    REQUIRE(trace_writer_append(&w, &s) == PP5_OK);
+    CHECK(trace_writer_abandon(&w) == PP5_OK);
+    REQUIRE(trace_read_file(path, &t) == PP5_OK);
+    CHECK_EQ(t.count, 1);
+    CHECK(!t.complete);
+    trace_free(&t);
 }
 
 TEST(trace_source_plays_every_sample_then_ends)

@@ -772,6 +772,14 @@ pp5_status_t trace_writer_close(trace_writer_t *w)
     return st;
 }
 
+pp5_status_t trace_writer_abandon(trace_writer_t *w)
+{
+    pp5_status_t st = w->started ? trace_writer_flush(w) : PP5_OK;
+    w->started = false;                    /* so close writes no end line */
+    pp5_status_t cst = trace_writer_close(w);
+    return st != PP5_OK ? st : cst;
+}
+
 pp5_status_t trace_write_file(const char *path, const trace_t *t)
 {
     trace_writer_t w;

@@ -76,6 +76,10 @@ pp5_status_t trace_writer_open(trace_writer_t *w, const char *path, const trace_
 pp5_status_t trace_writer_append(trace_writer_t *w, const gaze_sample_t *s);
 pp5_status_t trace_writer_flush(trace_writer_t *w);    /* write(2) + fsync-free; whole lines only */
 pp5_status_t trace_writer_close(trace_writer_t *w);    /* flush, "# end" line, close */
+/* After an error (device lost, timeout): flush what arrived and close WITHOUT
+ * the "# end" line, so the file reads as valid but not complete.  Returns the
+ * flush's status; the writer is closed either way. */
+pp5_status_t trace_writer_abandon(trace_writer_t *w);
 
 /* ---- a trace as a gaze_source_t ----
  * trace_source_open takes ownership of *t (it is freed by gaze_source_close). */
