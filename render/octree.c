@@ -131,10 +131,8 @@ int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], fl
     const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
     int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
     for (int a = 0; a < 3; a++) {
-        float q = mip3d_level_coord(p[a], n);
-        float f = floorf(q);
-        int i = f < 0.0f ? 0 : (f >= (float)dims[a] ? dims[a] - 1 : (int)f);
-        c[a] = i;
+        int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
+        c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
     }
     if (g->occupied[0][((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]])
         return -1;
