@@ -27,8 +27,8 @@ static const preset_t presets[] = {
      * 40, ventricles 0, lesions 60-120.  Every iso-value above 40 also occurs
      * in the skull shell, so the surfaces are kept semi-transparent: the
      * lesions (contour 70 in the 40 brain) show through the skull. */
-    {"shepp-logan", 2, {{150.0f, 0.25f, 2.5f, {0.92f, 0.80f, 0.70f}},
-                        {70.0f, 0.35f, 2.5f, {0.55f, 0.75f, 1.0f}}}},
+    {"shepp-logan", 2, {{150.0f, 0.1f, 2.5f, {0.92f, 0.80f, 0.70f}},
+                        {70.0f, 0.3f, 2.5f, {0.55f, 0.75f, 1.0f}}}},
     /* Marschner-Lobb (0..1): the classic iso-surface at 0.5. */
     {"marschner-lobb", 1, {{0.5f, 0.9f, 1.5f, {0.9f, 0.9f, 0.9f}}}},
     /* Sphere shell (0..200): iso 100 gives the inner and outer spheres. */
