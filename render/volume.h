@@ -65,4 +65,39 @@ pp5_status_t phantom_make(const char *name, int nx, int ny, int nz, volume_t *ou
 /* Comma-separated list of phantom names, for --help texts. */
 const char *phantom_names(void);
 
+
+/* ---- Added by render-io (declarations above are unchanged). ---- */
+#include <stddef.h>
+
+size_t volume_voxel_count(const volume_t *v);
+const char *voxel_type_name(voxel_type_t t);      /* "u8", "i16", "f32", ... */
+size_t voxel_type_bytes(voxel_type_t t);
+/* Parses "u8"/"uint8"/"uchar", "i16"/"int16"/"short", "f32"/"float", ... */
+pp5_status_t voxel_type_parse(const char *text, voxel_type_t *type);
+/* Reads the layout from a name like "cthead_256x256x113_u16be.raw.gz"
+ * (_NXxNYxNZ_TYPE, TYPE optionally suffixed be/le; little-endian by default). */
+pp5_status_t volume_raw_spec_from_name(const char *path, volume_raw_spec_t *spec);
+/* Writers (used by `pp5 volume phantom`): NRRD via Teem (float, raw encoding,
+ * spacings), or headerless little-endian float32 raw. */
+pp5_status_t volume_save_nrrd(const volume_t *v, const char *path);
+pp5_status_t volume_save_raw_f32(const volume_t *v, const char *path);
+/* What a loader found in the file (for `pp5 volume info` and reports). */
+typedef struct {
+    char format[32];          /* "raw", "raw.gz", "nrrd", "nifti", "den", "slices" */
+    voxel_type_t stored_type; /* voxel type in the file, before conversion to float */
+    bool big_endian;          /* byte order in the file (when it matters) */
+} volume_file_info_t;
+/* volume_load that also reports the file's format and stored type (info may be NULL). */
+pp5_status_t volume_load_info(const char *path, const volume_raw_spec_t *raw, volume_t *out,
+                              volume_file_info_t *info);
+/* Strict command-line parsing for raw options: "NXxNYxNZ" (each 1..VOLUME_MAX_SIDE,
+ * used for --dims and --size) and "SX,SY,SZ" (finite, > 0).  PP5_E_CONFIG naming `opt`. */
+pp5_status_t volume_parse_size3(const char *opt, const char *text, int *nx, int *ny, int *nz);
+pp5_status_t volume_parse_spacing3(const char *opt, const char *text, double spacing[3]);
+/* SHA-256 of a byte stream: the hash PROVENANCE.md records for the data. */
+void volume_sha256(const void *data, size_t n, uint8_t digest[32]);
+/* The Marschner-Lobb test function at (x,y,z) in [-1,1]^3 (values 0..1), the
+ * exact field the "marschner-lobb" phantom samples. */
+double phantom_marschner_lobb(double x, double y, double z);
+
 #endif

@@ -1,0 +1,114 @@
+/* bench_render.c: `pp5 bench render`: native renderer speed on CThead
+ * (phantom fallback), full resolution against gaze-directed frames, and
+ * with --peers the VTK / VolPack comparisons (render/peers/). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "registry.h"
+#include "renderer_native.h"
+#include "scene.h"
+
+int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
+                     double ours_gaze_ms);
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median frame time over `reps` frames (first frame not discarded: the
+ * renderer keeps no per-view caches outside progressive mode). */
+static pp5_status_t bench_frames(renderer_t *r, const render_settings_t *s, int reps,
+                                 double *ms, render_stats_t *last)
+{
+    double t[9];
+    for (int i = 0; i < reps; i++) {
+        image8_t img;
+        pp5_status_t st = renderer_frame(r, s, &img, last);
+        if (st != PP5_OK)
+            return st;
+        image8_free(&img);
+        t[i] = last->ms_total;
+    }
+    qsort(t, (size_t)reps, sizeof t[0], cmp_double);
+    *ms = t[reps / 2];
+    return PP5_OK;
+}
+
+static int bench_render(const pp5_bench_opts_t *o)
+{
+    scene_t sc;
+    pp5_status_t st = scene_load("cthead", true, &sc);
+    if (st != PP5_OK) {
+        printf("   cannot load a volume: %s\n", pp5_error_text());
+        return 1;
+    }
+    if (sc.fell_back)
+        printf("   note: %s\n", sc.note);
+    shade_params_t sh;
+    shade_defaults(&sh);
+    renderer_t r;
+    st = renderer_init(&r, &sc.volume, &sc.tf, &sh, 0);
+    if (st != PP5_OK) {
+        printf("   renderer init failed: %s\n", pp5_error_text());
+        scene_free(&sc);
+        return 1;
+    }
+    printf("   volume %s (%dx%dx%d), tf %s, diffuse shading, parallel, octree on, %d threads\n",
+           sc.volume.source, sc.volume.nx, sc.volume.ny, sc.volume.nz, sc.tf.name, r.threads);
+    printf("   3D mip map + octree build: %.0f ms (once per volume/transfer function)\n",
+           r.ms_build_mip + r.ms_build_octree);
+    int sizes[2] = {512, 1024};
+    if (o->quick) {
+        sizes[0] = 128;
+        sizes[1] = 256;
+    }
+    int reps = o->quick ? 1 : 3;
+    double full_ms_first = 0.0, gaze_ms_first = 0.0;
+    for (int k = 0; k < 2; k++) {
+        render_settings_t s;
+        render_settings_defaults(&s);
+        s.width = s.height = sizes[k];
+        s.gaze_x = s.gaze_y = 0.5 * (sizes[k] - 1);
+        s.view.rot_x_deg = sc.rot_x_deg;
+        s.view.rot_y_deg = sc.rot_y_deg;
+        s.view.rot_z_deg = sc.rot_z_deg;
+        double full_ms, gaze_ms;
+        render_stats_t fs, gs;
+        s.mode = RENDER_MODE_FULL;
+        st = bench_frames(&r, &s, reps, &full_ms, &fs);
+        s.mode = RENDER_MODE_GAZE;
+        if (st == PP5_OK)
+            st = bench_frames(&r, &s, reps, &gaze_ms, &gs);
+        if (st != PP5_OK) {
+            printf("   frame failed: %s\n", pp5_error_text());
+            break;
+        }
+        if (k == 0) {
+            full_ms_first = full_ms;
+            gaze_ms_first = gaze_ms;
+        }
+        printf("   %4dx%-4d full resolution: %8.1f ms/frame  (%llu rays, %llu 3D samples)\n",
+               sizes[k], sizes[k], full_ms, (unsigned long long)fs.rays,
+               (unsigned long long)fs.samples);
+        printf("   %4dx%-4d gaze-directed:   %8.1f ms/frame  (%llu rays, %llu 3D samples)\n",
+               sizes[k], sizes[k], gaze_ms, (unsigned long long)gs.rays,
+               (unsigned long long)gs.samples);
+        printf("   %4dx%-4d speed-up gaze vs full: %.2fx%s\n", sizes[k], sizes[k],
+               full_ms / gaze_ms, (sizes[k] == 1024 ? " (goal >= 5x, the paper's factor)" : ""));
+    }
+    renderer_free(&r);
+    if (o->peers && st == PP5_OK) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/volumes/cthead/cthead_256x256x113_u16be.raw.gz",
+                 scene_data_root());
+        render_peers_run(sc.fell_back ? NULL : path, sizes[0], full_ms_first, gaze_ms_first);
+    }
+    scene_free(&sc);
+    return st == PP5_OK ? 0 : 1;
+}
+
+PP5_BENCH(render, "native gaze-directed renderer: full vs gaze frame times (CThead)",
+          bench_render)

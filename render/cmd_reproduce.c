@@ -1,0 +1,337 @@
+/* cmd_reproduce.c: `pp5 reproduce SCENARIO`, re-running a published
+ * experiment and printing the paper's figures beside ours.  Scenarios are
+ * rows of one table: a new one (e.g. the firmware's "projections") is added
+ * by writing its function and adding a row. */
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cliopt.h"
+#include "registry.h"
+#include "renderer_native.h"
+#include "scene.h"
+
+typedef struct {
+    int threads;
+    int repeats;              /* timing: median of this many frames */
+    const char *out_dir;      /* PNGs of every image, or NULL */
+} reproduce_opts_t;
+
+typedef int (*reproduce_fn)(const reproduce_opts_t *o);
+
+typedef struct {
+    const char *name;
+    const char *summary;
+    reproduce_fn fn;
+} reproduce_scenario_t;
+
+/* ---- Table I of Levoy & Whitaker 1990 (gaze paper §6) ---- */
+
+/* The paper's Table I (DEC 3100, 256x256x109 MR, parallel projection). */
+#define PAPER_VAR_RAYS 9657.0
+#define PAPER_VAR_SAMPLES 55438.0
+#define PAPER_VAR_SECONDS 13.0
+#define PAPER_FULL_RAYS 44100.0
+#define PAPER_FULL_SAMPLES 316500.0
+#define PAPER_FULL_SECONDS 59.6
+/* 44,100 rays at one ray per pixel: a 210 x 210 image. */
+#define TABLE1_SIZE 210
+
+typedef struct {
+    render_stats_t stats;
+    double ms_median;
+} table1_run_t;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static pp5_status_t table1_run(renderer_t *r, render_mode_t mode, const scene_t *sc,
+                               const reproduce_opts_t *o, const char *tag, table1_run_t *out)
+{
+    render_settings_t s;
+    render_settings_defaults(&s);
+    s.width = s.height = TABLE1_SIZE;
+    s.mode = mode;
+    s.gaze_x = s.gaze_y = 0.5 * (TABLE1_SIZE - 1);
+    s.threads = o->threads;
+    s.view.projection = PROJECTION_PARALLEL;
+    s.view.rot_x_deg = sc->rot_x_deg;
+    s.view.rot_y_deg = sc->rot_y_deg;
+    s.view.rot_z_deg = sc->rot_z_deg;
+    double ms[16];
+    int n = o->repeats < 1 ? 1 : (o->repeats > 16 ? 16 : o->repeats);
+    image8_t img = {0};
+    for (int i = 0; i < n; i++) {
+        image8_free(&img);
+        pp5_status_t st = renderer_frame(r, &s, &img, &out->stats);
+        if (st != PP5_OK)
+            return st;
+        ms[i] = out->stats.ms_total;
+    }
+    qsort(ms, (size_t)n, sizeof ms[0], cmp_double);
+    out->ms_median = ms[n / 2];
+    pp5_status_t st = PP5_OK;
+    if (o->out_dir) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/table1_%s_%s.png", o->out_dir, tag,
+                 render_mode_name(mode));
+        st = png_write(path, &img);
+    }
+    image8_free(&img);
+    return st;
+}
+
+/* Rays the paper's RenderPixel pseudocode casts when it takes all four mask
+ * corners at both levels, including corners whose bilinear weight is zero
+ * (our renderer skips those: they cannot change the pixel). */
+static long pseudocode_rays(int size, double gx, double gy)
+{
+    gaze_display_t d;
+    gaze_display_defaults(&d);
+    gaze_model_t g;
+    if (gaze_model_init(&g, &d, size, size) != PP5_OK)
+        return -1;
+    int side = size + 2, levels = g.max_level + 1;
+    unsigned char *seen = calloc((size_t)side * side * (size_t)levels, 1);
+    if (!seen)
+        return -1;
+    long rays = 0;
+    for (int y = 0; y < size; y++)
+        for (int x = 0; x < size; x++) {
+            float L = gaze_level(&g, hypot(x - gx, y - gy));
+            int ms[2] = {(int)floorf(L), (int)ceilf(L)};
+            for (int k = 0; k < 2; k++)
+                for (int j = 0; j < 2; j++)
+                    for (int i = 0; i < 2; i++) {
+                        int m = ms[k];
+                        size_t idx = ((size_t)m * side + (size_t)((y >> m) + j)) * side +
+                                     (size_t)((x >> m) + i);
+                        rays += !seen[idx];
+                        seen[idx] = 1;
+                    }
+        }
+    free(seen);
+    return rays;
+}
+
+static void print_row(const char *who, const char *what, double rays, double samples,
+                      double seconds, const char *machine)
+{
+    printf("  %-6s %-9s %9.0f %11.0f %10.3f s  %7.2f   %s\n", who, what, rays, samples, seconds,
+           samples / rays, machine);
+}
+
+static int table1_dataset(const char *dataset, bool resample_to_paper,
+                          const reproduce_opts_t *o)
+{
+    scene_t sc;
+    pp5_status_t st = scene_load(dataset, true, &sc);
+    if (st != PP5_OK)
+        return cliopt_report("reproduce", st);
+    char tag[64];
+    snprintf(tag, sizeof tag, "%s%s", sc.fell_back ? "phantom" : dataset,
+             resample_to_paper ? "_256x256x109" : "");
+    if (resample_to_paper && !sc.fell_back) {
+        /* The paper's scan size; brainsmall's voxels are near isotropic, so
+         * the resampled spacing keeps the physical shape. */
+        volume_t big;
+        st = volume_resample(&sc.volume, 256, 256, 109, &big);
+        if (st != PP5_OK) {
+            scene_free(&sc);
+            return cliopt_report("reproduce", st);
+        }
+        big.spacing[0] = sc.volume.spacing[0] * sc.volume.nx / 256.0;
+        big.spacing[1] = sc.volume.spacing[1] * sc.volume.ny / 256.0;
+        big.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
+        volume_free(&sc.volume);
+        sc.volume = big;
+    }
+    if (resample_to_paper && sc.fell_back) {
+        scene_free(&sc);
+        return 0;             /* the phantom row is already printed */
+    }
+    printf("\n%s: %s, %dx%dx%d, spacing %g:%g:%g, transfer function %s\n",
+           sc.fell_back ? "FALLBACK" : dataset, sc.volume.source, sc.volume.nx, sc.volume.ny,
+           sc.volume.nz, sc.volume.spacing[0], sc.volume.spacing[1], sc.volume.spacing[2],
+           sc.tf.name);
+    if (sc.fell_back)
+        printf("  note: %s\n", sc.note);
+    if (resample_to_paper)
+        printf("  (brainsmall resampled trilinearly to the paper's 256x256x109: the paper's "
+               "sample density, not its detail)\n");
+    shade_params_t sh;
+    shade_defaults(&sh);
+    renderer_t r;
+    st = renderer_init(&r, &sc.volume, &sc.tf, &sh, o->threads);
+    if (st != PP5_OK) {
+        scene_free(&sc);
+        return cliopt_report("reproduce", st);
+    }
+    table1_run_t var, full;
+    st = table1_run(&r, RENDER_MODE_GAZE, &sc, o, tag, &var);
+    if (st == PP5_OK)
+        st = table1_run(&r, RENDER_MODE_FULL, &sc, o, tag, &full);
+    if (st != PP5_OK) {
+        renderer_free(&r);
+        scene_free(&sc);
+        return cliopt_report("reproduce", st);
+    }
+    char machine[64];
+    snprintf(machine, sizeof machine, "this host, %d thread%s", o->threads,
+             o->threads == 1 ? "" : "s");
+    printf("  %-6s %-9s %9s %11s %12s  %7s\n", "", "image", "rays", "3D samples", "time",
+           "smp/ray");
+    print_row("paper", "variable", PAPER_VAR_RAYS, PAPER_VAR_SAMPLES, PAPER_VAR_SECONDS,
+              "DEC 3100");
+    print_row("paper", "full", PAPER_FULL_RAYS, PAPER_FULL_SAMPLES, PAPER_FULL_SECONDS,
+              "DEC 3100");
+    print_row("ours", "variable", (double)var.stats.rays, (double)var.stats.samples,
+              var.ms_median / 1e3, machine);
+    print_row("ours", "full", (double)full.stats.rays, (double)full.stats.samples,
+              full.ms_median / 1e3, machine);
+    double pr = PAPER_VAR_RAYS / PAPER_FULL_RAYS, ps = PAPER_VAR_SAMPLES / PAPER_FULL_SAMPLES,
+           pt = PAPER_VAR_SECONDS / PAPER_FULL_SECONDS;
+    double orr = (double)var.stats.rays / (double)full.stats.rays;
+    double os = (double)var.stats.samples / (double)full.stats.samples;
+    double ot = var.ms_median / full.ms_median;
+    printf("  ratios variable/full:   rays        3D samples   time\n");
+    printf("    paper                 %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", pr, 1 / pr,
+           ps, 1 / ps, pt, 1 / pt);
+    printf("    ours                  %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", orr,
+           1 / orr, os, 1 / os, ot, 1 / ot);
+    printf("  octree: %llu (variable) and %llu (full) sample positions skipped as empty; "
+           "mip map built in %.0f ms (not in the frame times, as in the paper)\n",
+           (unsigned long long)var.stats.samples_skipped,
+           (unsigned long long)full.stats.samples_skipped, r.ms_build_mip + r.ms_build_octree);
+    /* Why the figures differ: computed, never tuned. */
+    printf("  where we differ:\n");
+    if (fabs(orr - pr) / pr > 0.05)
+        printf("   - rays: %.3f vs the paper's %.3f.  Rays are pure geometry of the sweet "
+               "spot (2DLevel) and the image size; the paper does not give its Gaussian's "
+               "width, ours puts level 1 at the paper's 5\" circle.\n", orr, pr);
+    else
+        printf("   - rays: within 5%% of the paper's ratio (they depend only on the sweet-spot "
+               "geometry and image size).\n");
+    printf("     Casting all four corners of both masks as the paper's pseudocode does "
+           "(zero-weight corners included; we skip them) would be %ld rays.\n",
+           pseudocode_rays(TABLE1_SIZE, 0.5 * (TABLE1_SIZE - 1), 0.5 * (TABLE1_SIZE - 1)));
+    double full_spr = (double)full.stats.samples / (double)full.stats.rays;
+    printf("   - samples per full-resolution ray: ours %.1f, paper %.1f (316,500 / 44,100).  "
+           "Ray length through the data, opacity (transfer function: ours %s, the "
+           "paper's is not published) and early termination decide this; the paper's 7.2 "
+           "samples per ray across a 256-voxel-deep volume imply that most of each ray was "
+           "skipped by the octree and that rays stopped within a few voxels of the "
+           "surface.\n", full_spr, PAPER_FULL_SAMPLES / PAPER_FULL_RAYS, sc.tf.name);
+    double var_spr = (double)var.stats.samples / (double)var.stats.rays;
+    if (var_spr > full_spr)
+        printf("   - our variable-resolution rays draw more samples each (%.1f) than the "
+               "full-resolution ones (%.1f): the coarse 3D levels are box-filtered, so their "
+               "opacity is spread thinner and rays travel further before early termination.\n",
+               var_spr, full_spr);
+    printf("   - samples ratio: ours 1/%.1f, paper 1/%.1f, 1/8 for data of uniform complexity "
+           "(4x fewer rays x 2x longer steps in the periphery); the periphery/fovea mix of "
+           "the data decides where between.\n", 1 / os, 1 / ps);
+    printf("   - time: ours is measured on this host (frame time incl. 2DLevel, casting and "
+           "reconstruction); the ratio also carries per-frame costs that do not scale with "
+           "rays (level map, reconstruction of all %d pixels).\n", TABLE1_SIZE * TABLE1_SIZE);
+    if (sc.fell_back)
+        printf("   - data: the Shepp-Logan phantom is not the paper's MR head.\n");
+    else if (strcmp(dataset, "mrbrain") == 0)
+        printf("   - data: brainsmall is VolPack's Gaussian-downsampled 8-bit copy of the "
+               "paper's scan (the 16-bit original is not available here).\n");
+    else
+        printf("   - data: CThead is CT, not the paper's MR; same size class (256x256x113, "
+               "1:1:2 spacing).\n");
+    renderer_free(&r);
+    scene_free(&sc);
+    return 0;
+}
+
+static int reproduce_table1(const reproduce_opts_t *o)
+{
+    printf("Table I of Levoy & Whitaker, \"Gaze-Directed Volume Rendering\" (1990), §6:\n"
+           "parallel projection, %dx%d image (the paper's 44,100 full-resolution rays),\n"
+           "gaze at the image centre, the paper's sweet spot (19\" monitor at 20\", 37-degree\n"
+           "image line, full resolution inside 12 degrees, 1 ray per 16 pixels outside 20),\n"
+           "diffuse shading with colour and opacity in the 3D mip map, octree skipping on,\n"
+           "early ray termination at opacity 0.95, times = median of %d frames.\n",
+           TABLE1_SIZE, TABLE1_SIZE, o->repeats);
+    int rc = table1_dataset("mrbrain", false, o);
+    if (rc == 0)
+        rc = table1_dataset("mrbrain", true, o);
+    if (rc == 0)
+        rc = table1_dataset("cthead", false, o);
+    return rc;
+}
+
+/* Add scenarios here: one row each. */
+static const reproduce_scenario_t scenarios[] = {
+    {"table1", "Levoy & Whitaker 1990 Table I: rays, 3D samples, time, gaze vs full",
+     reproduce_table1},
+};
+
+static void reproduce_usage(void)
+{
+    printf("usage: pp5 reproduce SCENARIO [--threads N] [--repeats N] [--out-dir DIR]\n\n"
+           "Re-runs a published experiment and prints the paper's figures beside ours,\n"
+           "with the reasons where they differ.  Scenarios:\n");
+    for (size_t i = 0; i < sizeof scenarios / sizeof scenarios[0]; i++)
+        printf("  %-12s %s\n", scenarios[i].name, scenarios[i].summary);
+    printf("Options:\n"
+           "  --threads N   host threads (default 1, like the paper's single workstation)\n"
+           "  --repeats N   frames per timing, median reported (default 3)\n"
+           "  --out-dir D   also write every rendered image as PNG into D\n"
+           "Data: ../shared/data or $PP5_SHARED_DATA; missing data falls back to the\n"
+           "Shepp-Logan phantom and the output says so.\n");
+}
+
+static int reproduce_main(int argc, char **argv)
+{
+    reproduce_opts_t o = {1, 3, NULL};
+    static const struct option longopts[] = {
+        {"threads", required_argument, NULL, 't'},
+        {"repeats", required_argument, NULL, 'r'},
+        {"out-dir", required_argument, NULL, 'o'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    long l;
+    int c;
+    pp5_status_t st = PP5_OK;
+    optind = 1;
+    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        switch (c) {
+        case 't': st = cliopt_long("--threads", optarg, 0, 64, &l); o.threads = (int)l; break;
+        case 'r': st = cliopt_long("--repeats", optarg, 1, 16, &l); o.repeats = (int)l; break;
+        case 'o': o.out_dir = optarg; break;
+        case 'h': reproduce_usage(); return 0;
+        default: return 2;
+        }
+    }
+    if (st != PP5_OK)
+        return cliopt_report("reproduce", st);
+    if (optind != argc - 1) {
+        reproduce_usage();
+        return 2;
+    }
+    if (o.out_dir && mkdir(o.out_dir, 0777) != 0) {
+        struct stat sb;
+        if (stat(o.out_dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+            return cliopt_report("reproduce", pp5_fail(PP5_E_IO, "--out-dir %s: cannot create",
+                                                       o.out_dir));
+    }
+    for (size_t i = 0; i < sizeof scenarios / sizeof scenarios[0]; i++)
+        if (strcmp(scenarios[i].name, argv[optind]) == 0)
+            return scenarios[i].fn(&o);
+    return cliopt_report("reproduce", pp5_fail(PP5_E_CONFIG, "unknown scenario '%s' (try "
+                                               "--help)", argv[optind]));
+}
+
+PP5_COMMAND(reproduce, "re-run a paper's experiment beside its published figures (table1)",
+            reproduce_main)

@@ -1,0 +1,115 @@
+/* mip3d.h: the 3D mip map (gaze paper §4): a hyperpyramid of shading
+ * components, each level a 2x2x2 box filter of the one beneath.
+ *
+ * Stored components per voxel (paper §5 "Shading issues"), all multiplied by
+ * the voxel opacity ("associated" values, so that filtering never lets the
+ * colour of a transparent voxel bleed into its neighbours):
+ *
+ *   SHADE_DIFFUSE_FIXED_LIGHT  (Lambertian, light fixed to the object, only the
+ *     observer moves: the whole shading is viewpoint-independent)
+ *       stride 4: [a*R, a*G, a*B, a]  with RGB the final diffuse-shaded colour.
+ *   SHADE_SPECULAR_FIXED_LIGHT (as above plus specular, which depends on the view)
+ *       stride 8: [a*R, a*G, a*B, a, a*Nx, a*Ny, a*Nz, 0]  RGB diffuse-shaded;
+ *       per sample the renderer adds a*ks*(N.H)^n from the renormalised normal.
+ *   SHADE_MOVING_OBJECT (light and observer fixed, object rotates: diffuse and
+ *     specular both change every frame)
+ *       stride 8: [a*R, a*G, a*B, a, a*Nx, a*Ny, a*Nz, 0]  RGB = unshaded
+ *       reflectance; per sample the renderer evaluates ka + kd*N.L and specular.
+ *
+ * N is the unit gradient direction in object space.  Levels: level n has
+ * ceil(dim / 2^n) voxels per axis (zero-padded where the level beneath is odd)
+ * up to a 1x1x1 top.  Voxel j of level n covers level-0 voxels
+ * [j*2^n, (j+1)*2^n - 1] and sits at level-0 position (j + 0.5) * 2^n - 0.5.
+ * Because the box filter averages non-negative opacities, a voxel's opacity is
+ * zero exactly when all eight children are zero: the opacity pyramid is also
+ * an occupancy octree (paper §5; octree.h builds the skipping structure). */
+#ifndef PP5_MIP3D_H
+#define PP5_MIP3D_H
+
+#include <math.h>
+#include <stddef.h>
+#include "classify.h"
+#include "shade.h"
+#include "volume.h"
+
+#define MIP3D_MAX_LEVELS 16
+enum { MIP3D_R = 0, MIP3D_G, MIP3D_B, MIP3D_A, MIP3D_NX, MIP3D_NY, MIP3D_NZ };
+
+typedef struct {
+    int nx, ny, nz;
+    float *data;          /* nx*ny*nz*stride floats, x fastest */
+} mip3d_level_t;
+
+typedef struct {
+    int levels;           /* number of levels, base (0) to the 1x1x1 top */
+    int stride;           /* floats per voxel: 4 or 8 (see above) */
+    shade_case_t lighting;
+    float inv_spacing[3]; /* object-space units per voxel, inverted (see shade.h) */
+    float spacing[3];     /* object-space size of a level-0 voxel (smallest axis = 1) */
+    mip3d_level_t level[MIP3D_MAX_LEVELS];
+    size_t bytes;
+} mip3d_t;
+
+/* Classifies and shades every voxel (viewpoint-independent part only, as
+ * above) and filters the pyramid.  Deterministic for any thread count. */
+pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
+                         const shade_params_t *shade, int threads);
+void mip3d_free(mip3d_t *m);
+
+/* Level-n coordinate of a level-0 voxel coordinate p: (p + 0.5) / 2^n - 0.5. */
+static inline float mip3d_level_coord(float p, int n)
+{
+    /* Multiplying by 2^-n is exact, so this equals dividing by 2^n. */
+    return (p + 0.5f) * (1.0f / (float)(1 << n)) - 0.5f;
+}
+
+/* floor() of a float known to lie well inside the int range, without a libm
+ * call: truncate, then step down for negative non-integers. */
+static inline int mip3d_floor_int(float x)
+{
+    int i = (int)x;
+    return (float)i > x ? i - 1 : i;
+}
+
+/* Trilinear interpolation of the `stride` components of level n at level-n
+ * coordinates (x, y, z), clamping to the edge voxels. */
+static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, float z,
+                                 float *out)
+{
+    const mip3d_level_t *L = &m->level[n];
+    int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
+    float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
+    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
+    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
+    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
+    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
+    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
+    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
+    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
+    const int s = m->stride;
+    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
+    const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * s;
+    const float *c100 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * s;
+    const float *c010 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * s;
+    const float *c110 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * s;
+    const float *c001 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * s;
+    const float *c101 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * s;
+    const float *c011 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * s;
+    const float *c111 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * s;
+    for (int k = 0; k < s; k++) {
+        float a = c000[k] + wx * (c100[k] - c000[k]);
+        float b = c010[k] + wx * (c110[k] - c010[k]);
+        float c = c001[k] + wx * (c101[k] - c001[k]);
+        float d = c011[k] + wx * (c111[k] - c011[k]);
+        float e = a + wy * (b - a);
+        float f = c + wy * (d - c);
+        out[k] = e + wz * (f - e);
+    }
+}
+
+/* One 3D sample at level-0 voxel position p and continuous level `level3d`
+ * (>= 0): trilinear in floor and ceil levels, linear between them (the paper's
+ * Trilirp + Lirp).  Levels beyond the top are clamped to the top. */
+void mip3d_sample(const mip3d_t *m, float level3d, const float p[3], float *out);
+
+#endif

@@ -1,0 +1,154 @@
+/* octree.c: occupancy cell grids (dilated opacity) and their OR pyramids. */
+#include "octree.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Dilation windows of a cell relative to its index (see octree.h): blended
+ * samples read [i-2, i+3], exact-level samples [i, i+1]. */
+#define OCTREE_BLEND_LO 2
+#define OCTREE_BLEND_HI 3
+#define OCTREE_EXACT_LO 0
+#define OCTREE_EXACT_HI 1
+
+static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, int lo, int hi)
+{
+    for (int i = 0; i < n; i++) {
+        int a = i - lo, b = i + hi;
+        if (a < 0)
+            a = 0;
+        if (b > n - 1)
+            b = n - 1;
+        uint8_t v = 0;
+        for (int j = a; j <= b && !v; j++)
+            v = in[(size_t)j * stride];
+        out[(size_t)i * stride] = v;
+    }
+}
+
+static void grid_free(octree_grid_t *g)
+{
+    for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
+        free(g->occupied[h]);
+    memset(g, 0, sizeof *g);
+}
+
+void octree_free(octree_t *o)
+{
+    for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
+        grid_free(&o->grid[n]);
+        grid_free(&o->exact[n]);
+    }
+    memset(o, 0, sizeof *o);
+}
+
+static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int stride,
+                               int lo, int hi, size_t *bytes)
+{
+    int nx = L->nx, ny = L->ny, nz = L->nz;
+    size_t count = (size_t)nx * (size_t)ny * (size_t)nz;
+    uint8_t *a = malloc(count), *b = malloc(count);
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
+    }
+    for (size_t i = 0; i < count; i++)
+        a[i] = L->data[i * (size_t)stride + MIP3D_A] > 0.0f;
+    /* Separable box dilation: x into b, y into a, z into b. */
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++) {
+            size_t base = ((size_t)z * ny + y) * nx;
+            dilate_line(a + base, b + base, nx, 1, lo, hi);
+        }
+    for (int z = 0; z < nz; z++)
+        for (int x = 0; x < nx; x++) {
+            size_t base = (size_t)z * ny * nx + x;
+            dilate_line(b + base, a + base, ny, (size_t)nx, lo, hi);
+        }
+    for (int y = 0; y < ny; y++)
+        for (int x = 0; x < nx; x++) {
+            size_t base = (size_t)y * nx + x;
+            dilate_line(a + base, b + base, nz, (size_t)nx * ny, lo, hi);
+        }
+    free(a);
+    g->occupied[0] = b;
+    g->nx[0] = nx;
+    g->ny[0] = ny;
+    g->nz[0] = nz;
+    g->heights = 1;
+    *bytes += count;
+    for (int h = 1; h < OCTREE_MAX_HEIGHT; h++) {
+        int px = g->nx[h - 1], py = g->ny[h - 1], pz = g->nz[h - 1];
+        if (px == 1 && py == 1 && pz == 1)
+            break;
+        int cx = (px + 1) / 2, cy = (py + 1) / 2, cz = (pz + 1) / 2;
+        size_t c = (size_t)cx * cy * cz;
+        uint8_t *o = calloc(c, 1);
+        if (!o)
+            return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", c);
+        const uint8_t *in = g->occupied[h - 1];
+        for (int z = 0; z < pz; z++)
+            for (int y = 0; y < py; y++)
+                for (int x = 0; x < px; x++)
+                    if (in[((size_t)z * py + y) * px + x])
+                        o[((size_t)(z / 2) * cy + y / 2) * cx + x / 2] = 1;
+        g->occupied[h] = o;
+        g->nx[h] = cx;
+        g->ny[h] = cy;
+        g->nz[h] = cz;
+        g->heights = h + 1;
+        *bytes += c;
+    }
+    return PP5_OK;
+}
+
+pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
+{
+    (void)threads;
+    memset(o, 0, sizeof *o);
+    for (int n = 0; n < m->levels; n++) {
+        pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, OCTREE_BLEND_LO,
+                                     OCTREE_BLEND_HI, &o->bytes);
+        if (st == PP5_OK)
+            st = grid_build(&o->exact[n], &m->level[n], m->stride, OCTREE_EXACT_LO,
+                            OCTREE_EXACT_HI, &o->bytes);
+        o->mip_levels = n + 1;
+        if (st != PP5_OK) {
+            octree_free(o);
+            return st;
+        }
+    }
+    return PP5_OK;
+}
+
+int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
+                      float hi[3])
+{
+    if (n >= o->mip_levels)
+        n = o->mip_levels - 1;
+    const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
+    int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
+    for (int a = 0; a < 3; a++) {
+        int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
+        c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
+    }
+    if (g->occupied[0][((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]])
+        return -1;
+    int h = 0;
+    while (h + 1 < g->heights) {
+        int x = c[0] >> (h + 1), y = c[1] >> (h + 1), z = c[2] >> (h + 1);
+        if (g->occupied[h + 1][((size_t)z * g->ny[h + 1] + y) * g->nx[h + 1] + x])
+            break;
+        h++;
+    }
+    float scale = (float)(1 << n);
+    for (int a = 0; a < 3; a++) {
+        int first = (c[a] >> h) << h;
+        int last = first + (1 << h);      /* exclusive, in level-n cell units */
+        lo[a] = first == 0 ? -INFINITY : ((float)first + 0.5f) * scale - 0.5f;
+        hi[a] = last >= dims[a] ? INFINITY : ((float)last + 0.5f) * scale - 0.5f;
+    }
+    return h;
+}

@@ -1,0 +1,58 @@
+/* octree.h: empty-space skipping with the opacity pyramid (gaze paper §5).
+ *
+ * The opacity component of the 3D mip map is a box-filtered pyramid of
+ * non-negative values, so a voxel is zero exactly when every voxel it was
+ * filtered from is zero: a hierarchical occupancy map.  A sample, however,
+ * reads more than one voxel: trilinear interpolation in the floor level n
+ * touches a 2x2x2 neighbourhood and the ceil level n+1 another 2x2x2 whose
+ * children reach two level-n voxels further.  So for each mip level n we keep
+ * a "cell" grid: cell i (the sample's level-n coordinate lies in [i, i+1) per
+ * axis) is occupied when any level-n voxel in [i-2, i+3]^3 has opacity > 0.
+ * That is conservative: a sample in an empty cell is exactly zero in both
+ * levels.  A sample at an integer level (always so under parallel
+ * projection) reads only level n, so a second, tighter grid marks cell i
+ * occupied when a voxel in [i, i+1]^3 is: far fewer cells are occupied and
+ * skipping goes further.  Above each cell grid sits an OR pyramid up to a
+ * single node.
+ *
+ * Per sample the ray tracer asks for the largest empty node containing the
+ * sample's cell.  The answer is the one the paper's top-down descent finds
+ * (the first empty node on the path from the root), computed bottom-up
+ * because most queries hit an occupied leaf and stop after one lookup.  The
+ * ray then jumps to its first sample beyond that node; since skipped samples
+ * are exactly zero the image is bit-identical to a run without skipping. */
+#ifndef PP5_OCTREE_H
+#define PP5_OCTREE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "mip3d.h"
+
+#define OCTREE_MAX_HEIGHT 16
+
+typedef struct {
+    int heights;                       /* number of pyramid levels over this cell grid */
+    int nx[OCTREE_MAX_HEIGHT], ny[OCTREE_MAX_HEIGHT], nz[OCTREE_MAX_HEIGHT];
+    uint8_t *occupied[OCTREE_MAX_HEIGHT]; /* 1 = may hold a non-zero sample */
+} octree_grid_t;
+
+typedef struct {
+    int mip_levels;
+    octree_grid_t grid[MIP3D_MAX_LEVELS];  /* blended samples: floor level n, [i-2, i+3] */
+    octree_grid_t exact[MIP3D_MAX_LEVELS]; /* samples at exactly level n: [i, i+1] */
+    size_t bytes;
+} octree_t;
+
+pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads);
+void octree_free(octree_t *o);
+
+/* For a sample at level-0 voxel position p whose floor 3D level is n
+ * (`exact`: the 3D level is exactly n, so only level n is read): returns
+ * -1 if the sample may be non-zero, else the height (0 = a single cell) of
+ * the largest empty node containing it, with the node's extent in level-0
+ * voxel coordinates in lo/hi (+-INFINITY on faces that extend to the edge of
+ * the clamped grid). */
+int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
+                      float hi[3]);
+
+#endif

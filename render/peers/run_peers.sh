@@ -1,0 +1,57 @@
+#!/bin/sh
+# run_peers.sh: the optional peer comparisons of `pp5 bench --peers`.
+#   sh render/peers/run_peers.sh CTHEAD_RAW_GZ IMAGE_SIDE OURS_FULL_MS OURS_GAZE_MS
+# Installs VTK (python3-vtk9), Xvfb and VolPack (libvolpack1-dev) with apt-get
+# when run as root, otherwise prints the command; builds volpack_peer.c; runs
+# both peers on CThead at the same image size and prints ms/frame and the
+# ratios against pp5's native renderer.  Never fails the benchmark run.
+set -u
+data=$1 side=$2 ours_full=$3 ours_gaze=$4
+here=$(dirname "$0")
+pkgs="python3-vtk9 xvfb xauth libvolpack1-dev"
+missing=""
+for p in $pkgs; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+    if [ "$(id -u)" = 0 ]; then
+        echo "   peers: installing$missing"
+        (apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
+            --no-install-recommends $missing) >/dev/null 2>&1 ||
+            { echo "   peers: apt-get failed; skipped"; exit 0; }
+    else
+        echo "   peers: missing packages; run: sudo apt-get install -y$missing"
+        exit 0
+    fi
+fi
+tmp=$(mktemp -d) || exit 0
+trap 'rm -rf "$tmp"' EXIT
+gzip -dc "$data" > "$tmp/cthead.raw" || { echo "   peers: cannot read $data"; exit 0; }
+vp_ms=""
+if cc -O2 -o "$tmp/volpack_peer" "$here/volpack_peer.c" -lvolpack -lm 2>"$tmp/cc.log"; then
+    vp_ms=$("$tmp/volpack_peer" "$tmp/cthead.raw" 256 256 113 "$side" 15 |
+            awk '/volpack_ms_per_frame/ {print $2}')
+else
+    echo "   peers: volpack_peer did not compile:"; sed 's/^/     /' "$tmp/cc.log"
+fi
+# Debian's VTK bindings belong to the system interpreter.
+py=/usr/bin/python3
+vtk_ms=$(xvfb-run -a "$py" "$here/vtk_peer.py" "$tmp/cthead.raw" 256 256 113 "$side" 9 2 |
+         awk '/vtk_ms_per_frame/ {print $2}')
+echo "   peers on CThead ${side}x${side}, shaded composite, skin iso-value 500, parallel:"
+[ -n "$vtk_ms" ] && echo "     VTK vtkFixedPointVolumeRayCastMapper (2 threads, Xvfb): ${vtk_ms} ms/frame" ||
+    echo "     VTK: did not run"
+[ -n "$vp_ms" ] && echo "     VolPack shear-warp (1 thread, classified volume): ${vp_ms} ms/frame" ||
+    echo "     VolPack: did not run"
+echo "     pp5 native full resolution: ${ours_full} ms/frame; gaze-directed: ${ours_gaze} ms/frame"
+if [ -n "$vtk_ms" ]; then
+    awk -v v="$vtk_ms" -v f="$ours_full" 'BEGIN {
+        printf "     full resolution vs VTK: %.2fx %s (goal: >= 2x faster)\n",
+               v / f, (v / f >= 1 ? "faster" : "(slower: ratio < 1)") }'
+fi
+if [ -n "$vp_ms" ]; then
+    awk -v v="$vp_ms" -v g="$ours_gaze" 'BEGIN {
+        printf "     gaze-directed vs VolPack: %.2fx %s (goal: no slower)\n",
+               v / g, (v / g >= 1 ? "faster" : "(slower: ratio < 1)") }'
+fi
+exit 0

@@ -1,0 +1,333 @@
+/* raycast.c: camera setup and TraceRay (sampling, shading, compositing,
+ * early termination, octree skipping). */
+#include "raycast.h"
+
+#include <math.h>
+#include <string.h>
+
+void view_defaults(view_params_t *v)
+{
+    memset(v, 0, sizeof *v);
+    v->projection = PROJECTION_PARALLEL;
+    v->zoom = 1.0f;
+    v->eye_distance = 3.0f;
+    v->sample_step = 1.0f;
+    v->early_termination = 0.95f;
+    v->use_octree = true;
+}
+
+const char *projection_name(projection_t p)
+{
+    return p == PROJECTION_PERSPECTIVE ? "perspective" : "parallel";
+}
+
+static void rotate(float m[3][3], int axis, float deg)
+{
+    float r = deg * (float)(M_PI / 180.0);
+    float c = cosf(r), s = sinf(r);
+    float R[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    int i = (axis + 1) % 3, j = (axis + 2) % 3;
+    R[i][i] = c;
+    R[i][j] = -s;
+    R[j][i] = s;
+    R[j][j] = c;
+    float out[3][3];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            out[a][b] = R[a][0] * m[0][b] + R[a][1] * m[1][b] + R[a][2] * m[2][b];
+    memcpy(m, out, sizeof out);
+}
+
+void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height)
+{
+    memset(c, 0, sizeof *c);
+    c->width = width;
+    c->height = height;
+    c->projection = v->projection;
+    /* Columns of M are the camera axes; M = Rz * Rx * Ry (Ry acts first). */
+    float M[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    rotate(M, 1, v->rot_y_deg);
+    rotate(M, 0, v->rot_x_deg);
+    rotate(M, 2, v->rot_z_deg);
+    for (int a = 0; a < 3; a++) {
+        c->right[a] = M[a][0];
+        c->down[a] = M[a][1];
+        c->forward[a] = M[a][2];
+    }
+    const mip3d_level_t *L = &m->level[0];
+    int dims[3] = {L->nx, L->ny, L->nz};
+    float extent = 0.0f, r2 = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        c->box_hi[a] = (float)(dims[a] - 1) * m->spacing[a];
+        c->centre[a] = 0.5f * c->box_hi[a];
+        c->inv_spacing[a] = 1.0f / m->spacing[a];
+        float e = (float)dims[a] * m->spacing[a];
+        if (e > extent)
+            extent = e;
+        r2 += 0.25f * e * e;
+    }
+    c->radius = sqrtf(r2);
+    int side = width < height ? width : height;
+    float zoom = v->zoom > 0.0f ? v->zoom : 1.0f;
+    c->pixel_size = extent / (float)side / zoom;
+    c->eye_distance = (v->eye_distance > 1.0f ? v->eye_distance : 1.0f) * c->radius;
+    for (int a = 0; a < 3; a++)
+        c->eye[a] = c->centre[a] - c->eye_distance * c->forward[a];
+}
+
+void camera_ray(const camera_t *c, float px, float py, float origin[3], float dir[3])
+{
+    float dx = (px - 0.5f * (float)c->width) * c->pixel_size;
+    float dy = (py - 0.5f * (float)c->height) * c->pixel_size;
+    float P[3];
+    for (int a = 0; a < 3; a++)
+        P[a] = c->centre[a] + dx * c->right[a] + dy * c->down[a];
+    if (c->projection == PROJECTION_PARALLEL) {
+        for (int a = 0; a < 3; a++) {
+            origin[a] = P[a] - (c->radius + 1.0f) * c->forward[a];
+            dir[a] = c->forward[a];
+        }
+        return;
+    }
+    float d[3], n = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        d[a] = P[a] - c->eye[a];
+        n += d[a] * d[a];
+    }
+    n = sqrtf(n);
+    for (int a = 0; a < 3; a++) {
+        origin[a] = c->eye[a];
+        dir[a] = d[a] / n;
+    }
+}
+
+void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, const camera_t *c,
+                      const shade_params_t *s, const view_params_t *v)
+{
+    memset(r, 0, sizeof *r);
+    r->mip = m;
+    r->octree = v->use_octree ? o : NULL;
+    r->camera = c;
+    r->shade = s;
+    r->sample_step = v->sample_step > 0.0f ? v->sample_step : 1.0f;
+    r->level3d_offset = log2f(r->sample_step);
+    r->early_termination = v->early_termination;
+    if (s->lighting == SHADE_MOVING_OBJECT) {
+        /* Light given in eye space: carry it into object space for this view. */
+        for (int a = 0; a < 3; a++)
+            r->light_obj[a] = s->light_dir[0] * c->right[a] + s->light_dir[1] * c->down[a] +
+                              s->light_dir[2] * c->forward[a];
+    } else {
+        memcpy(r->light_obj, s->light_dir, sizeof r->light_obj);
+    }
+    for (int l = 0; l < RAYCAST_LUT_LEVELS; l++) {
+        double spacing = (double)r->sample_step * (double)(1 << l);
+        for (int i = 0; i <= RAYCAST_LUT_SIZE; i++)
+            r->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / RAYCAST_LUT_SIZE, spacing));
+    }
+}
+
+/* Opacity of a sample standing for `spacing` object units when a has been
+ * classified per unit: 1 - (1 - a)^spacing. */
+static inline float correct_alpha(const raycast_ctx_t *r, int level2d, bool perspective,
+                                  float spacing, float a)
+{
+    if (a >= 1.0f)
+        return 1.0f;
+    if (perspective || level2d >= RAYCAST_LUT_LEVELS)
+        return 1.0f - powf(1.0f - a, spacing);
+    float x = a * (float)RAYCAST_LUT_SIZE;
+    int i = (int)x;
+    if (i >= RAYCAST_LUT_SIZE)
+        i = RAYCAST_LUT_SIZE - 1;
+    float f = x - (float)i;
+    const float *t = r->alpha_lut[level2d];
+    return t[i] + f * (t[i + 1] - t[i]);
+}
+
+/* Parametric interval [t0, t1] of the ray inside the box [0, hi]. */
+static bool clip_box(const float o[3], const float d[3], const float hi[3], float *t0, float *t1)
+{
+    float a = -INFINITY, b = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        if (d[k] == 0.0f) {
+            if (o[k] < 0.0f || o[k] > hi[k])
+                return false;
+            continue;
+        }
+        float ta = (0.0f - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
+        if (ta > tb) {
+            float s = ta;
+            ta = tb;
+            tb = s;
+        }
+        if (ta > a)
+            a = ta;
+        if (tb < b)
+            b = tb;
+    }
+    if (a < 0.0f)
+        a = 0.0f;
+    *t0 = a;
+    *t1 = b;
+    return a <= b;
+}
+
+/* Viewpoint-dependent shading of one sample's components: writes the
+ * opacity-weighted colour and returns the opacity. */
+static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float view[3],
+                                 const float half[3], float c[3])
+{
+    float a = s[MIP3D_A];
+    c[0] = s[MIP3D_R];
+    c[1] = s[MIP3D_G];
+    c[2] = s[MIP3D_B];
+    if (r->mip->stride == 4 || a <= 0.0f)
+        return a;
+    float n[3] = {s[MIP3D_NX], s[MIP3D_NY], s[MIP3D_NZ]};
+    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0.0f)
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
+    if (r->mip->lighting == SHADE_MOVING_OBJECT) {
+        float d = shade_diffuse(r->shade, n, r->light_obj);
+        for (int k = 0; k < 3; k++)
+            c[k] *= d;
+    }
+    (void)view;
+    if (len > 0.0f) {
+        float sp = a * shade_specular(r->shade, n, half);
+        for (int k = 0; k < 3; k++)
+            c[k] += sp;
+    }
+    return a;
+}
+
+void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
+                   raycast_counts_t *counts)
+{
+    const camera_t *cam = r->camera;
+    float o[3], d[3], t0, t1;
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    counts->rays++;
+    /* Local tallies: threads' counters may share a cache line. */
+    uint64_t n_samples = 0, n_skipped = 0;
+    camera_ray(cam, px, py, o, d);
+    if (!clip_box(o, d, cam->box_hi, &t0, &t1))
+        return;
+    /* Level-0 voxel coordinates along the ray: ov + t * dv. */
+    float ov[3], dv[3];
+    for (int k = 0; k < 3; k++) {
+        ov[k] = o[k] * cam->inv_spacing[k];
+        dv[k] = d[k] * cam->inv_spacing[k];
+    }
+    float inv_dv[3];
+    for (int a = 0; a < 3; a++)
+        inv_dv[a] = dv[a] != 0.0f ? 1.0f / dv[a] : 0.0f;
+    float view[3] = {-d[0], -d[1], -d[2]}, half[3];
+    shade_half_vector(r->light_obj, view, half);
+    const bool perspective = cam->projection == PROJECTION_PERSPECTIVE;
+    const float base = r->sample_step * (float)(1 << level2d);
+    /* Parallel: spacing `base` everywhere.  Perspective: spacing proportional
+     * to the distance t from the eye, equal to `base` at the volume centre, so
+     * t_{k+1} = t_k * growth. */
+    const float growth = 1.0f + base / cam->eye_distance;
+    const float top = (float)(r->mip->levels - 1);
+    float acc[3] = {0.0f, 0.0f, 0.0f}, acc_a = 0.0f;
+    float comp[8];
+    long k = 0;
+    float t = t0;
+    if (perspective && t < 1e-3f)
+        t = 1e-3f;
+    /* Parallel: spacing and 3DLevel are constant along the ray. */
+    float spacing = base;
+    float level3d = log2f(spacing) - r->level3d_offset;
+    level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+    while (t <= t1) {
+        if (perspective) {
+            spacing = t * (growth - 1.0f);
+            level3d = log2f(spacing) - r->level3d_offset;
+            level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+        }
+        float p[3] = {ov[0] + t * dv[0], ov[1] + t * dv[1], ov[2] + t * dv[2]};
+        if (r->octree) {
+            float lo[3], hi[3];
+            int n = (int)level3d;
+            int height = octree_empty_node(r->octree, n, level3d == (float)n, p, lo, hi);
+            if (height == 0 && !perspective) {
+                /* A single empty cell: this sample is zero; stepping over it
+                 * is cheaper than computing the cell's exit. */
+                n_skipped++;
+                k++;
+                t = t0 + (float)k * base;
+                continue;
+            }
+            if (height >= 0) {
+                float t_exit = INFINITY;
+                for (int a = 0; a < 3; a++) {
+                    float te = INFINITY;
+                    if (dv[a] > 0.0f && isfinite(hi[a]))
+                        te = (hi[a] - ov[a]) * inv_dv[a];
+                    else if (dv[a] < 0.0f && isfinite(lo[a]))
+                        te = (lo[a] - ov[a]) * inv_dv[a];
+                    if (te < t_exit)
+                        t_exit = te;
+                }
+                /* Stay a hair inside the node so rounding never skips a
+                 * sample that lands in the neighbouring cell. */
+                if (!(t_exit <= t1))
+                    break;        /* empty all the way out of the volume */
+                t_exit -= 1e-3f;
+                if (perspective) {
+                    /* The floor level must not change inside the jump. */
+                    float t_level = exp2f((float)(n + 1) + r->level3d_offset) /
+                                    (growth - 1.0f);
+                    if (n + 1 <= (int)top && t_level < t_exit)
+                        t_exit = t_level;
+                    do {
+                        t *= growth;
+                        n_skipped++;
+                    } while (t < t_exit && t <= t1);
+                } else {
+                    long k_new = (long)ceilf((t_exit - t0) / base);
+                    if (k_new <= k)
+                        k_new = k + 1;
+                    n_skipped += (uint64_t)(k_new - k);
+                    k = k_new;
+                    t = t0 + (float)k * base;
+                }
+                continue;
+            }
+        }
+        mip3d_sample(r->mip, level3d, p, comp);
+        n_samples++;
+        float c[3];
+        float a = shade_sample(r, comp, view, half, c);
+        if (a > 0.0f) {
+            if (spacing != 1.0f) {
+                /* Opacity per unit length is fixed; a sample standing for
+                 * `spacing` units has opacity 1 - (1 - a)^spacing. */
+                float ac = correct_alpha(r, level2d, perspective, spacing, a);
+                float scale = ac / a;
+                c[0] *= scale;
+                c[1] *= scale;
+                c[2] *= scale;
+                a = ac;
+            }
+            raycast_composite(acc, &acc_a, c, a);
+            if (acc_a >= r->early_termination)
+                break;
+        }
+        if (perspective) {
+            t *= growth;
+        } else {
+            k++;
+            t = t0 + (float)k * base;
+        }
+    }
+    counts->samples += n_samples;
+    counts->samples_skipped += n_skipped;
+    rgb[0] = acc[0];
+    rgb[1] = acc[1];
+    rgb[2] = acc[2];
+}

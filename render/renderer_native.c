@@ -1,0 +1,260 @@
+/* renderer_native.c: one frame of the gaze-directed renderer (see the header
+ * for the phases and why the output is thread-count independent). */
+#include "renderer_native.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "parallel.h"
+
+/* Host wall time for the timing report only; never feeds into the image. */
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+void render_settings_defaults(render_settings_t *s)
+{
+    memset(s, 0, sizeof *s);
+    s->width = 512;
+    s->height = 512;
+    s->mode = RENDER_MODE_GAZE;
+    s->gaze_x = 255.5;
+    s->gaze_y = 255.5;
+    view_defaults(&s->view);
+    gaze_display_defaults(&s->display);
+    s->threads = 0;
+    s->progressive = false;
+    s->progressive_growth = 2.0;
+}
+
+const char *render_mode_name(render_mode_t m)
+{
+    return m == RENDER_MODE_FULL ? "full" : "gaze";
+}
+
+pp5_status_t renderer_init(renderer_t *r, const volume_t *v, const classify_tf_t *tf,
+                           const shade_params_t *shade, int threads)
+{
+    memset(r, 0, sizeof *r);
+    r->tf = *tf;
+    r->shade = *shade;
+    r->threads = threads > 0 ? threads : parallel_default_threads();
+    double t0 = now_ms();
+    pp5_status_t st = mip3d_build(&r->mip, v, &r->tf, &r->shade, r->threads);
+    if (st != PP5_OK)
+        return st;
+    double t1 = now_ms();
+    st = octree_build(&r->octree, &r->mip, r->threads);
+    if (st != PP5_OK) {
+        mip3d_free(&r->mip);
+        return st;
+    }
+    r->ms_build_mip = t1 - t0;
+    r->ms_build_octree = now_ms() - t1;
+    return PP5_OK;
+}
+
+void renderer_free(renderer_t *r)
+{
+    mip3d_free(&r->mip);
+    octree_free(&r->octree);
+    mip2d_free(&r->mip2d);
+    free(r->level_best);
+    free(r->level_now);
+    memset(r, 0, sizeof *r);
+}
+
+const float *renderer_levels(const renderer_t *r)
+{
+    return r->level_best;
+}
+
+/* Same view (camera, size, display, mode) as the previous frame? */
+static bool same_view(const render_settings_t *a, const render_settings_t *b)
+{
+    return a->width == b->width && a->height == b->height && a->mode == b->mode &&
+           memcmp(&a->view, &b->view, sizeof a->view) == 0 &&
+           memcmp(&a->display, &b->display, sizeof a->display) == 0;
+}
+
+typedef struct {
+    renderer_t *r;
+    const render_settings_t *s;
+    raycast_ctx_t ray;
+    double gaze_scale;            /* eccentricity divisor for progressive growth */
+    image8_t *out;
+    int rows_total;               /* texel rows over all levels */
+    int row_level[MIP2D_MAX_LEVELS + 1]; /* prefix sums of texel rows */
+    struct {
+        raycast_counts_t c;
+        char pad[64];             /* keep threads' counters on separate cache lines */
+    } counts[PARALLEL_MAX_THREADS];
+} frame_job_t;
+
+static void job_levels_row(void *ctx, int y, int thread)
+{
+    (void)thread;
+    frame_job_t *job = ctx;
+    renderer_t *r = job->r;
+    const render_settings_t *s = job->s;
+    float *now = r->level_now + (size_t)y * s->width;
+    float *best = r->level_best + (size_t)y * s->width;
+    for (int x = 0; x < s->width; x++) {
+        float level = 0.0f;
+        if (s->mode == RENDER_MODE_GAZE) {
+            double dx = (double)x - s->gaze_x, dy = (double)y - s->gaze_y;
+            level = gaze_level(&r->gaze, sqrt(dx * dx + dy * dy) / job->gaze_scale);
+        }
+        now[x] = level;
+        if (level < best[x])
+            best[x] = level;
+    }
+}
+
+static void job_cast_row(void *ctx, int item, int thread)
+{
+    frame_job_t *job = ctx;
+    mip2d_t *m = &job->r->mip2d;
+    int l = 0;
+    while (item >= job->row_level[l + 1])
+        l++;
+    int j = item - job->row_level[l];
+    size_t base = (size_t)j * m->w[l];
+    for (int i = 0; i < m->w[l]; i++) {
+        if (!m->need[l][base + i] || m->cast[l][base + i])
+            continue;
+        float px, py;
+        mip2d_texel_point(l, i, j, &px, &py);
+        raycast_trace(&job->ray, px, py, l, m->rgb[l] + (base + i) * 3, &job->counts[thread].c);
+        m->cast[l][base + i] = 1;
+    }
+}
+
+static void job_reconstruct_row(void *ctx, int y, int thread)
+{
+    (void)thread;
+    frame_job_t *job = ctx;
+    const renderer_t *r = job->r;
+    int w = job->s->width;
+    uint8_t *row = job->out->pixels + (size_t)y * w * 3;
+    for (int x = 0; x < w; x++) {
+        float rgb[3];
+        mip2d_pixel(&r->mip2d, x, y, r->level_best[(size_t)y * w + x], rgb);
+        row[3 * x + 0] = render_to_u8(rgb[0]);
+        row[3 * x + 1] = render_to_u8(rgb[1]);
+        row[3 * x + 2] = render_to_u8(rgb[2]);
+    }
+}
+
+pp5_status_t renderer_frame(renderer_t *r, const render_settings_t *s, image8_t *out,
+                            render_stats_t *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    if (s->width < 1 || s->height < 1 || s->width > 16384 || s->height > 16384)
+        return pp5_fail(PP5_E_RANGE, "render: image size %dx%d outside 1..16384",
+                        s->width, s->height);
+    if (!isfinite(s->gaze_x) || !isfinite(s->gaze_y))
+        return pp5_fail(PP5_E_RANGE, "render: gaze point must be finite");
+    if (!(s->view.sample_step > 0.0f) || !(s->view.sample_step <= 64.0f) ||
+        !(s->view.zoom > 0.0f) || !isfinite(s->view.zoom) ||
+        !(s->view.early_termination > 0.0f) || !(s->view.early_termination <= 1.0f))
+        return pp5_fail(PP5_E_RANGE, "render: sample step (0, 64], zoom > 0 and early "
+                        "termination (0, 1] required");
+    double t_start = now_ms();
+    int threads = s->threads > 0 ? s->threads : r->threads;
+    gaze_model_t gm;
+    pp5_status_t st = gaze_model_init(&gm, &s->display, s->width, s->height);
+    if (st != PP5_OK)
+        return st;
+    bool keep = s->progressive && r->have_view && same_view(s, &r->last);
+    if (!keep) {
+        mip2d_free(&r->mip2d);
+        free(r->level_best);
+        free(r->level_now);
+        r->level_best = r->level_now = NULL;
+        r->have_view = false;
+        int levels = s->mode == RENDER_MODE_GAZE ? gm.max_level + 1 : 1;
+        st = mip2d_init(&r->mip2d, s->width, s->height, levels);
+        if (st != PP5_OK)
+            return st;
+        size_t n = (size_t)s->width * (size_t)s->height;
+        r->level_best = malloc(n * sizeof(float));
+        r->level_now = malloc(n * sizeof(float));
+        if (!r->level_best || !r->level_now)
+            return pp5_fail(PP5_E_NOMEM, "render: cannot allocate level maps");
+        for (size_t i = 0; i < n; i++)
+            r->level_best[i] = INFINITY;
+        r->frame_index = 0;
+    } else {
+        r->frame_index++;
+    }
+    r->gaze = gm;
+    r->last = *s;
+    r->have_view = true;
+    st = image8_alloc(out, s->width, s->height, 3);
+    if (st != PP5_OK)
+        return st;
+
+    frame_job_t *job = calloc(1, sizeof *job);
+    if (!job)
+        return pp5_fail(PP5_E_NOMEM, "render: out of memory");
+    job->r = r;
+    job->s = s;
+    job->out = out;
+    job->gaze_scale = s->progressive ? pow(s->progressive_growth > 1.0 ? s->progressive_growth
+                                                                        : 1.0,
+                                           r->frame_index)
+                                     : 1.0;
+    camera_t cam;
+    camera_setup(&cam, &s->view, &r->mip, s->width, s->height);
+    raycast_ctx_init(&job->ray, &r->mip, &r->octree, &cam, &r->shade, &s->view);
+
+    /* Phase 1: 2DLevel per pixel, then the texels it needs (serial marking:
+     * neighbouring pixels share texels). */
+    double t1 = now_ms();
+    st = parallel_for(threads, s->height, job_levels_row, job);
+    mip2d_clear_need(&r->mip2d);
+    bool full = true;
+    for (int y = 0; y < s->height; y++) {
+        const float *best = r->level_best + (size_t)y * s->width;
+        for (int x = 0; x < s->width; x++) {
+            mip2d_mark_pixel(&r->mip2d, x, y, best[x]);
+            if (best[x] > 0.0f)
+                full = false;
+        }
+    }
+    /* Phase 2: cast every needed, not yet cast texel once. */
+    double t2 = now_ms();
+    job->row_level[0] = 0;
+    for (int l = 0; l < r->mip2d.levels; l++)
+        job->row_level[l + 1] = job->row_level[l] + r->mip2d.h[l];
+    for (int l = r->mip2d.levels + 1; l <= MIP2D_MAX_LEVELS; l++)
+        job->row_level[l] = job->row_level[r->mip2d.levels];
+    if (st == PP5_OK)
+        st = parallel_for(threads, job->row_level[r->mip2d.levels], job_cast_row, job);
+    /* Phase 3: RenderPixel for every pixel. */
+    double t3 = now_ms();
+    if (st == PP5_OK)
+        st = parallel_for(threads, s->height, job_reconstruct_row, job);
+    double t4 = now_ms();
+    for (int t = 0; t < PARALLEL_MAX_THREADS; t++) {
+        stats->rays += job->counts[t].c.rays;
+        stats->samples += job->counts[t].c.samples;
+        stats->samples_skipped += job->counts[t].c.samples_skipped;
+    }
+    free(job);
+    stats->ms_levels = t2 - t1;
+    stats->ms_cast = t3 - t2;
+    stats->ms_reconstruct = t4 - t3;
+    stats->ms_total = t4 - t_start;
+    stats->frame_index = r->frame_index;
+    stats->full_resolution_everywhere = full;
+    if (st != PP5_OK)
+        image8_free(out);
+    return st;
+}

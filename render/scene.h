@@ -1,0 +1,31 @@
+/* scene.h: the named datasets the render commands and benchmarks use (the
+ * paper's MR subject, CThead, phantoms), each with its transfer-function
+ * preset and a default view, falling back to the Shepp-Logan phantom when
+ * the shared data is absent. */
+#ifndef PP5_SCENE_H
+#define PP5_SCENE_H
+
+#include <stdbool.h>
+#include "classify.h"
+#include "volume.h"
+
+typedef struct {
+    volume_t volume;
+    classify_tf_t tf;
+    float rot_x_deg, rot_y_deg, rot_z_deg;   /* a view that shows the subject's face/side */
+    char name[64];                            /* "mrbrain", "cthead", "phantom shepp-logan" */
+    bool fell_back;                           /* the data was absent: phantom used instead */
+    char note[1280];                          /* why, when fell_back */
+} scene_t;
+
+/* Root of the shared data: $PP5_SHARED_DATA or ../shared/data. */
+const char *scene_data_root(void);
+/* dataset: "mrbrain" (brainsmall 128x128x84 u8), "cthead" (256x256x113 u16be,
+ * spacing 1:1:2), or a phantom name.  With allow_fallback a missing file
+ * yields the 256x256x109 Shepp-Logan phantom and fell_back = true. */
+pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s);
+void scene_free(scene_t *s);
+/* Preset and view for an arbitrary loaded volume (guessed from its range). */
+void scene_guess_tf(const volume_t *v, classify_tf_t *tf);
+
+#endif
