@@ -20,13 +20,13 @@ static int cmp_double(const void *a, const void *b)
 
 /* Median frame time over `reps` frames (first frame not discarded: the
  * renderer keeps no per-view caches outside progressive mode). */
-static pp5_status_t bench_frames(renderer_t *r, const render_settings_t *s, int reps,
+static pp5_status_t bench_frames(native_renderer_t *r, const render_settings_t *s, int reps,
                                  double *ms, render_stats_t *last)
 {
     double t[9];
     for (int i = 0; i < reps; i++) {
         image8_t img;
-        pp5_status_t st = renderer_frame(r, s, &img, last);
+        pp5_status_t st = native_renderer_frame(r, s, &img, last);
         if (st != PP5_OK)
             return st;
         image8_free(&img);
@@ -49,8 +49,8 @@ static int bench_render(const pp5_bench_opts_t *o)
         printf("   note: %s\n", sc.note);
     shade_params_t sh;
     shade_defaults(&sh);
-    renderer_t r;
-    st = renderer_init(&r, &sc.volume, &sc.tf, &sh, 0);
+    native_renderer_t r;
+    st = native_renderer_init(&r, &sc.volume, &sc.tf, &sh, 0);
     if (st != PP5_OK) {
         printf("   renderer init failed: %s\n", pp5_error_text());
         scene_free(&sc);
@@ -99,7 +99,7 @@ static int bench_render(const pp5_bench_opts_t *o)
         printf("   %4dx%-4d speed-up gaze vs full: %.2fx%s\n", sizes[k], sizes[k],
                full_ms / gaze_ms, (sizes[k] == 1024 ? " (goal >= 5x, the paper's factor)" : ""));
     }
-    renderer_free(&r);
+    native_renderer_free(&r);
     if (o->peers && st == PP5_OK) {
         char path[1200];
         snprintf(path, sizeof path, "%s/volumes/cthead/cthead_256x256x113_u16be.raw.gz",

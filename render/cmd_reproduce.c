@@ -51,7 +51,7 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static pp5_status_t table1_run(renderer_t *r, render_mode_t mode, const scene_t *sc,
+static pp5_status_t table1_run(native_renderer_t *r, render_mode_t mode, const scene_t *sc,
                                const reproduce_opts_t *o, const char *tag, table1_run_t *out)
 {
     render_settings_t s;
@@ -69,7 +69,7 @@ static pp5_status_t table1_run(renderer_t *r, render_mode_t mode, const scene_t 
     image8_t img = {0};
     for (int i = 0; i < n; i++) {
         image8_free(&img);
-        pp5_status_t st = renderer_frame(r, &s, &img, &out->stats);
+        pp5_status_t st = native_renderer_frame(r, &s, &img, &out->stats);
         if (st != PP5_OK)
             return st;
         ms[i] = out->stats.ms_total;
@@ -167,8 +167,8 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
                "sample density, not its detail)\n");
     shade_params_t sh;
     shade_defaults(&sh);
-    renderer_t r;
-    st = renderer_init(&r, &sc.volume, &sc.tf, &sh, o->threads);
+    native_renderer_t r;
+    st = native_renderer_init(&r, &sc.volume, &sc.tf, &sh, o->threads);
     if (st != PP5_OK) {
         scene_free(&sc);
         return cliopt_report("reproduce", st);
@@ -178,7 +178,7 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
     if (st == PP5_OK)
         st = table1_run(&r, RENDER_MODE_FULL, &sc, o, tag, &full);
     if (st != PP5_OK) {
-        renderer_free(&r);
+        native_renderer_free(&r);
         scene_free(&sc);
         return cliopt_report("reproduce", st);
     }
@@ -248,7 +248,7 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
     else
         printf("   - data: CThead is CT, not the paper's MR; same size class (256x256x113, "
                "1:1:2 spacing).\n");
-    renderer_free(&r);
+    native_renderer_free(&r);
     scene_free(&sc);
     return 0;
 }

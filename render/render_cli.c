@@ -137,8 +137,8 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         s.gaze_x = 0.5 * (s.width - 1);
         s.gaze_y = 0.5 * (s.height - 1);
     }
-    renderer_t r;
-    st = renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
+    native_renderer_t r;
+    st = native_renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
     if (st != PP5_OK) {
         scene_free(&sc);
         return st;
@@ -157,7 +157,7 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
     int frames_to_full = -1;
     for (int f = 0; st == PP5_OK && f < frames; f++) {
         image8_free(&img);
-        st = renderer_frame(&r, &s, &img, &stats[f]);
+        st = native_renderer_frame(&r, &s, &img, &stats[f]);
         if (st != PP5_OK)
             break;
         fprintf(log, "frame %d (%s %dx%d, %s): %llu rays, %llu 3D samples (%llu skipped), "
@@ -189,11 +189,11 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         fs.mode = RENDER_MODE_FULL;
         fs.progressive = false;
         image8_t ref = {0};
-        renderer_t r2;
-        st = renderer_init(&r2, &sc.volume, &c->tf, &c->shade, s.threads);
+        native_renderer_t r2;
+        st = native_renderer_init(&r2, &sc.volume, &c->tf, &c->shade, s.threads);
         if (st == PP5_OK) {
-            st = renderer_frame(&r2, &fs, &ref, &full_stats);
-            renderer_free(&r2);
+            st = native_renderer_frame(&r2, &fs, &ref, &full_stats);
+            native_renderer_free(&r2);
         }
         if (st == PP5_OK)
             st = quality_compare(&img, &ref, &r.gaze, s.gaze_x, s.gaze_y, &q);
@@ -288,7 +288,7 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
     }
     image8_free(&img);
     free(stats);
-    renderer_free(&r);
+    native_renderer_free(&r);
     scene_free(&sc);
     return st;
 }

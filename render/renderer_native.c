@@ -37,7 +37,7 @@ const char *render_mode_name(render_mode_t m)
     return m == RENDER_MODE_FULL ? "full" : "gaze";
 }
 
-pp5_status_t renderer_init(renderer_t *r, const volume_t *v, const classify_tf_t *tf,
+pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads)
 {
     memset(r, 0, sizeof *r);
@@ -59,7 +59,7 @@ pp5_status_t renderer_init(renderer_t *r, const volume_t *v, const classify_tf_t
     return PP5_OK;
 }
 
-void renderer_free(renderer_t *r)
+void native_renderer_free(native_renderer_t *r)
 {
     mip3d_free(&r->mip);
     octree_free(&r->octree);
@@ -69,7 +69,7 @@ void renderer_free(renderer_t *r)
     memset(r, 0, sizeof *r);
 }
 
-const float *renderer_levels(const renderer_t *r)
+const float *native_renderer_levels(const native_renderer_t *r)
 {
     return r->level_best;
 }
@@ -83,7 +83,7 @@ static bool same_view(const render_settings_t *a, const render_settings_t *b)
 }
 
 typedef struct {
-    renderer_t *r;
+    native_renderer_t *r;
     const render_settings_t *s;
     raycast_ctx_t ray;
     double gaze_scale;            /* eccentricity divisor for progressive growth */
@@ -100,7 +100,7 @@ static void job_levels_row(void *ctx, int y, int thread)
 {
     (void)thread;
     frame_job_t *job = ctx;
-    renderer_t *r = job->r;
+    native_renderer_t *r = job->r;
     const render_settings_t *s = job->s;
     float *now = r->level_now + (size_t)y * s->width;
     float *best = r->level_best + (size_t)y * s->width;
@@ -139,7 +139,7 @@ static void job_reconstruct_row(void *ctx, int y, int thread)
 {
     (void)thread;
     frame_job_t *job = ctx;
-    const renderer_t *r = job->r;
+    const native_renderer_t *r = job->r;
     int w = job->s->width;
     uint8_t *row = job->out->pixels + (size_t)y * w * 3;
     for (int x = 0; x < w; x++) {
@@ -151,7 +151,7 @@ static void job_reconstruct_row(void *ctx, int y, int thread)
     }
 }
 
-pp5_status_t renderer_frame(renderer_t *r, const render_settings_t *s, image8_t *out,
+pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
                             render_stats_t *stats)
 {
     memset(stats, 0, sizeof *stats);

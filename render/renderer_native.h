@@ -1,9 +1,9 @@
 /* renderer_native.h: the native frame API of the gaze-directed volume
  * renderer (Levoy & Whitaker 1990): settings in, image + counts + timings out.
  *
- * Pipeline (ARCHITECTURE.md): renderer_init builds the 3D mip map
+ * Pipeline (ARCHITECTURE.md): native_renderer_init builds the 3D mip map
  * (mip3d.h) and the skipping octree (octree.h) once per volume/transfer
- * function/lighting; renderer_frame then, per frame,
+ * function/lighting; native_renderer_frame then, per frame,
  *   1. computes 2DLevel for every pixel (gaze2d.h; 0 everywhere in full mode),
  *   2. marks the 2D mip-map texels those levels need and casts each unflagged
  *      one once (raycast.h), in parallel over texel rows,
@@ -66,17 +66,17 @@ typedef struct {
     bool have_view;
     render_settings_t last;       /* view of the previous frame */
     gaze_model_t gaze;
-} renderer_t;
+} native_renderer_t;
 
 /* Builds the 3D mip map and octree (the per-volume preprocessing). */
-pp5_status_t renderer_init(renderer_t *r, const volume_t *v, const classify_tf_t *tf,
+pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads);
-void renderer_free(renderer_t *r);
+void native_renderer_free(native_renderer_t *r);
 /* Renders one frame into `out` (allocated here, RGB). */
-pp5_status_t renderer_frame(renderer_t *r, const render_settings_t *s, image8_t *out,
+pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
                             render_stats_t *stats);
 /* The 2D level each pixel was reconstructed at in the last frame (W*H). */
-const float *renderer_levels(const renderer_t *r);
+const float *native_renderer_levels(const native_renderer_t *r);
 
 /* 8-bit conversion used for every output: round(clamp(v, 0, 1) * 255). */
 static inline uint8_t render_to_u8(float v)

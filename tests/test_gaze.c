@@ -103,7 +103,7 @@ TEST(gaze_bilinear_and_level_blend_by_hand)
 
 typedef struct {
     volume_t v;
-    renderer_t r;
+    native_renderer_t r;
 } scene_small_t;
 
 static void small_scene(scene_small_t *s)
@@ -113,12 +113,12 @@ static void small_scene(scene_small_t *s)
     REQUIRE(classify_preset("shepp-logan", &tf) == PP5_OK);
     shade_params_t sh;
     shade_defaults(&sh);
-    REQUIRE(renderer_init(&s->r, &s->v, &tf, &sh, 2) == PP5_OK);
+    REQUIRE(native_renderer_init(&s->r, &s->v, &tf, &sh, 2) == PP5_OK);
 }
 
 static void small_free(scene_small_t *s)
 {
-    renderer_free(&s->r);
+    native_renderer_free(&s->r);
     volume_free(&s->v);
 }
 
@@ -135,7 +135,7 @@ TEST(gaze_flag_array_casts_each_ray_once)
     s.threads = 2;
     image8_t img;
     render_stats_t st;
-    REQUIRE(renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
+    REQUIRE(native_renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
     /* Count the distinct mask corners independently: for every pixel, the
      * corners (with non-zero bilinear weight) of its floor and ceil levels. */
     gaze_model_t g;
@@ -171,7 +171,7 @@ TEST(gaze_flag_array_casts_each_ray_once)
      * same gaze, no growth: nothing is left to cast. */
     s.progressive = true;
     s.progressive_growth = 1.0;
-    REQUIRE(renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
+    REQUIRE(native_renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
     CHECK_EQ(st.rays, 0);
     CHECK_EQ(st.frame_index, 1);
     image8_free(&img);
@@ -189,7 +189,7 @@ TEST(gaze_full_mode_casts_one_ray_per_pixel)
     s.mode = RENDER_MODE_FULL;
     image8_t img;
     render_stats_t st;
-    REQUIRE(renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
+    REQUIRE(native_renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
     CHECK_EQ(st.rays, 70 * 50);
     CHECK(st.full_resolution_everywhere);
     image8_free(&img);
@@ -207,7 +207,7 @@ TEST(gaze_progressive_converges_to_full_resolution_image)
     s.threads = 2;
     image8_t full, img = {0};
     render_stats_t st;
-    REQUIRE(renderer_frame(&sc.r, &s, &full, &st) == PP5_OK);
+    REQUIRE(native_renderer_frame(&sc.r, &s, &full, &st) == PP5_OK);
     s.mode = RENDER_MODE_GAZE;
     s.progressive = true;
     s.gaze_x = 60;
@@ -216,7 +216,7 @@ TEST(gaze_progressive_converges_to_full_resolution_image)
     uint64_t total_rays = 0;
     do {
         image8_free(&img);
-        REQUIRE(renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
+        REQUIRE(native_renderer_frame(&sc.r, &s, &img, &st) == PP5_OK);
         total_rays += st.rays;
         frames++;
     } while (!st.full_resolution_everywhere && frames < 20);

@@ -128,8 +128,8 @@ static void render_pair(bool perspective, render_mode_t mode)
     REQUIRE(classify_preset("shepp-logan", &tf) == PP5_OK);
     shade_params_t sh;
     shade_defaults(&sh);
-    renderer_t r;
-    REQUIRE(renderer_init(&r, &v, &tf, &sh, 1) == PP5_OK);
+    native_renderer_t r;
+    REQUIRE(native_renderer_init(&r, &v, &tf, &sh, 1) == PP5_OK);
     render_settings_t s;
     render_settings_defaults(&s);
     s.width = s.height = 80;
@@ -142,9 +142,9 @@ static void render_pair(bool perspective, render_mode_t mode)
     s.view.projection = perspective ? PROJECTION_PERSPECTIVE : PROJECTION_PARALLEL;
     image8_t a, b;
     render_stats_t sa, sb;
-    REQUIRE(renderer_frame(&r, &s, &a, &sa) == PP5_OK);
+    REQUIRE(native_renderer_frame(&r, &s, &a, &sa) == PP5_OK);
     s.view.use_octree = false;
-    REQUIRE(renderer_frame(&r, &s, &b, &sb) == PP5_OK);
+    REQUIRE(native_renderer_frame(&r, &s, &b, &sb) == PP5_OK);
     /* Stated tolerance: zero.  Skipped samples are exactly zero (octree.h), so
      * the images must match byte for byte. */
     size_t n = (size_t)a.width * a.height * 3, diff = 0, lit = 0;
@@ -160,7 +160,7 @@ static void render_pair(bool perspective, render_mode_t mode)
     CHECK_EQ(sb.samples_skipped, 0);
     image8_free(&a);
     image8_free(&b);
-    renderer_free(&r);
+    native_renderer_free(&r);
     volume_free(&v);
 }
 

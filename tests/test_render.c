@@ -21,8 +21,8 @@ static void render_with_threads(int threads, render_mode_t mode, projection_t pr
     shade_defaults(&sh);
     sh.lighting = lighting;
     sh.specular = 0.4f;
-    renderer_t r;
-    REQUIRE(renderer_init(&r, &v, &tf, &sh, threads) == PP5_OK);
+    native_renderer_t r;
+    REQUIRE(native_renderer_init(&r, &v, &tf, &sh, threads) == PP5_OK);
     render_settings_t s;
     render_settings_defaults(&s);
     s.width = 131;
@@ -34,8 +34,8 @@ static void render_with_threads(int threads, render_mode_t mode, projection_t pr
     s.view.projection = proj;
     s.view.rot_y_deg = 30;
     s.view.rot_x_deg = -15;
-    REQUIRE(renderer_frame(&r, &s, img, st) == PP5_OK);
-    renderer_free(&r);
+    REQUIRE(native_renderer_frame(&r, &s, img, st) == PP5_OK);
+    native_renderer_free(&r);
     volume_free(&v);
 }
 
