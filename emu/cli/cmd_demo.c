@@ -19,13 +19,14 @@ typedef struct {
 /* The tour.  Every step uses generated data (phantoms, synthetic gaze), so the
  * demo needs nothing from ../shared. */
 static const demo_step_t demo_steps[] = {
-    {"The machine: every parameter with its source (default preset, 640 MB/s ring)",
-     {"machine", "--brief", NULL}},
-    {"The same machine as the gaze paper literally describes it (640 Mb/s = 80 MB/s ring)",
-     {"machine", "--brief", "--preset", "gaze1990-literal", NULL}},
+    {"The machine: every parameter with its value, unit and source",
+     {"machine", NULL}},
     {"Whole-machine test pattern: GPs send QEE streams to all 16 renderers, 80 regions go to the frame buffer",
      {"test-pattern", "--out", "@/test-pattern.png", "--report", "@/test-pattern.json",
       "--timeline", "@/test-pattern-timeline.json", NULL}},
+    {"The same frame with the ring the gaze paper literally describes (640 Mb/s = 80 MB/s, 8x slower)",
+     {"test-pattern", "--preset", "gaze1990-literal", "--report", "@/test-pattern-literal.json",
+      NULL}},
     {"Native renderer, full resolution (Shepp-Logan head phantom, 512x512)",
      {"render", "--phantom", "shepp-logan", "--mode", "full", "--size", "512x512",
       "--out", "@/native-full.png", "--report", "@/native-full.json", NULL}},
