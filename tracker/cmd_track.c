@@ -194,11 +194,7 @@ static int finish(const char *what, pp5_status_t st, trace_writer_t *w, size_t n
     /* keep what arrived, but no "# end" line: the file says it was cut short */
     char msg[1024];
     snprintf(msg, sizeof msg, "%s", pp5_error_text());
-    pp5_status_t fst = trace_writer_flush(w);
-    /* trace_file.h has no "close without the end line" call: clearing
-     * `started` makes trace_writer_close skip that line (trace_file.c). */
-    w->started = false;
-    trace_writer_close(w);
+    pp5_status_t fst = trace_writer_abandon(w);
     if (fst != PP5_OK)
         fprintf(stderr, "pp5 track: could not save the last samples: %s\n", pp5_error_text());
     fprintf(stderr, "pp5 track: kept %zu samples in %s (no end line)%s\n", n, w->path, stats);
