@@ -331,6 +331,8 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     pp5_tick_t budget_end = start + (pp5_tick_t)budget_ps;
     pp5_tick_t busy0[MACHINE_MAX_CHANNELS];
     uint64_t bytes0[RING_CLASS_COUNT];
+    pp5_tick_t cbusy0[RING_CLASS_COUNT];
+    memcpy(cbusy0, m->ring.busy_by_class, sizeof cbusy0);
     for (unsigned c = 0; c < m->ring.n_channels; c++) {
         busy0[c] = m->ring.ch[c].busy_ticks;
     }
@@ -358,6 +360,7 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
         }
         for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
             f->bytes_by_class[k] = m->ring.bytes_sent[k] - bytes0[k];
+            f->busy_by_class[k] = m->ring.busy_by_class[k] - cbusy0[k];
         }
     }
     m->sched.now = end > m->sched.now ? end : m->sched.now;

@@ -99,6 +99,13 @@ TEST(machine_test_pattern_matches_native_reference_small)
         CHECK_EQ(m.ring.bytes_sent[k], m.ring.bytes_delivered[k]);
     }
     CHECK_EQ(m.ring.bytes_sent[RING_CLASS_PIXELS], 6ull * (128 * 128 * 3 + p.ring_header_bytes));
+    /* Invariant: class shares of the ring add up to the aggregate utilisation. */
+    double sum = 0;
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        sum += stats_ring_class_utilization(&m, k);
+    }
+    CHECK_NEAR(sum, stats_ring_utilization(&m), 1e-12);
+    CHECK(stats_ring_utilization(&m) > 0.0 && stats_ring_utilization(&m) <= 1.0);
     machine_free(&m);
 }
 
