@@ -180,6 +180,13 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
     if (st != PP5_OK) {
         return st;
     }
+    if (p->fb_rx_ports > 0) {
+        st = ring_set_rx_ports(&m->ring, m->n_gp + m->n_rn + 1, p->fb_rx_ports);   /* FB position */
+        if (st != PP5_OK) {
+            ring_free(&m->ring);
+            return st;
+        }
+    }
     host_init(&m->host, machine_unit_send, m);
     m->gp = calloc(m->n_gp, sizeof *m->gp);
     m->rn = calloc(m->n_rn, sizeof *m->rn);
