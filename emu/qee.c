@@ -1,13 +1,13 @@
 /* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
 #include "qee.h"
 
-#include <stdlib.h>
 
 #include "pp_simd.h"
 
 bool qee_origin_ok(int x0, int y0)
 {
-    return abs(x0) <= QEE_COORD_MAX - 127 && abs(y0) <= QEE_COORD_MAX - 127;
+    const int lim = QEE_COORD_MAX - 127;    /* no abs(): abs(INT_MIN) overflows */
+    return x0 >= -lim && x0 <= lim && y0 >= -lim && y0 <= lim;
 }
 
 /* Each term is below 2^31 * 2^26 = 2^57 in magnitude and there are six, so the
