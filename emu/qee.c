@@ -1,7 +1,6 @@
 /* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
 #include "qee.h"
 
-
 #include "pp_simd.h"
 
 bool qee_origin_ok(int x0, int y0)
