@@ -180,6 +180,13 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
     if (st != PP5_OK) {
         return st;
     }
+    if (p->fb_rx_ports > 0) {
+        st = ring_set_rx_ports(&m->ring, m->n_gp + m->n_rn + 1, p->fb_rx_ports);   /* FB position */
+        if (st != PP5_OK) {
+            ring_free(&m->ring);
+            return st;
+        }
+    }
     host_init(&m->host, machine_unit_send, m);
     m->gp = calloc(m->n_gp, sizeof *m->gp);
     m->rn = calloc(m->n_rn, sizeof *m->rn);
@@ -331,6 +338,8 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     pp5_tick_t budget_end = start + (pp5_tick_t)budget_ps;
     pp5_tick_t busy0[MACHINE_MAX_CHANNELS];
     uint64_t bytes0[RING_CLASS_COUNT];
+    pp5_tick_t cbusy0[RING_CLASS_COUNT];
+    memcpy(cbusy0, m->ring.busy_by_class, sizeof cbusy0);
     for (unsigned c = 0; c < m->ring.n_channels; c++) {
         busy0[c] = m->ring.ch[c].busy_ticks;
     }
@@ -358,6 +367,7 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
         }
         for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
             f->bytes_by_class[k] = m->ring.bytes_sent[k] - bytes0[k];
+            f->busy_by_class[k] = m->ring.busy_by_class[k] - cbusy0[k];
         }
     }
     m->sched.now = end > m->sched.now ? end : m->sched.now;

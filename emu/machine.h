@@ -42,6 +42,7 @@ typedef struct {
     sched_stop_t stop;
     pp5_tick_t ch_busy_ps[MACHINE_MAX_CHANNELS];
     uint64_t bytes_by_class[RING_CLASS_COUNT];
+    pp5_tick_t busy_by_class[RING_CLASS_COUNT];
 } machine_frame_t;
 
 typedef struct {

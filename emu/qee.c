@@ -1,13 +1,12 @@
 /* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
 #include "qee.h"
 
-#include <stdlib.h>
-
 #include "pp_simd.h"
 
 bool qee_origin_ok(int x0, int y0)
 {
-    return abs(x0) <= QEE_COORD_MAX - 127 && abs(y0) <= QEE_COORD_MAX - 127;
+    const int lim = QEE_COORD_MAX - 127;    /* no abs(): abs(INT_MIN) overflows */
+    return x0 >= -lim && x0 <= lim && y0 >= -lim && y0 <= lim;
 }
 
 /* Each term is below 2^31 * 2^26 = 2^57 in magnitude and there are six, so the
@@ -77,25 +76,61 @@ static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
     }
 }
 
-/* Scalar bit-sliced add over the 2-word lanes of one row (initialisation):
- * dst(stride 16) = src(stride 16) + addend planes (2 words, shifted up by `shl`
- * planes, i.e. multiplied by 2^shl) + constant v. */
-static void lane_add(uint64_t *dst, const uint64_t *src, const uint64_t *addend, unsigned shl,
-                     int64_t v, unsigned bits)
+/* dst += add over all 16 lanes (bit-sliced, `bits` planes of QEE_LANES words). */
+PP_CLONES static void lanes_add(uint64_t *dst, const uint64_t *add, unsigned bits)
 {
-    for (unsigned h = 0; h < 2; h++) {
-        uint64_t c1 = 0, c2 = 0;
-        for (unsigned k = 0; k < bits; k++) {
-            uint64_t a = src[QEE_LANES * k + h];
-            uint64_t b = k >= shl ? addend[2 * (k - shl) + h] : 0;
-            uint64_t x = a ^ b, sum = x ^ c1;
-            c1 = (a & b) | (c1 & x);
-            uint64_t K = bit_of(v, k) ? ~(uint64_t)0 : 0;
-            uint64_t y = sum ^ K;
-            dst[QEE_LANES * k + h] = y ^ c2;
-            c2 = (sum & K) | (c2 & y);
+    v4_t c[QEE_LANES / VW];
+    UNROLL
+    for (unsigned v = 0; v < QEE_LANES / VW; v++)
+        c[v] = splat(0);
+    for (unsigned k = 0; k < bits; k++) {
+        uint64_t *pd = dst + QEE_LANES * k;
+        const uint64_t *pa = add + QEE_LANES * k;
+        UNROLL
+        for (unsigned v = 0; v < QEE_LANES / VW; v++) {
+            v4_t a = ld(pd + v * VW), b = ld(pa + v * VW);
+            v4_t x = a ^ b;
+            st(pd + v * VW, x ^ c[v]);
+            c[v] = (a & b) | (c[v] & x);
         }
     }
+}
+
+/* T = the row planes `src` (2 words per plane) shifted up by `shl` planes
+ * (times 2^shl), in the lanes of chain c if bit c of `chains` is set, else 0. */
+static void lanes_spread(uint64_t *T, const uint64_t *src, unsigned shl, unsigned chains,
+                         unsigned bits)
+{
+    uint64_t m[QEE_CHAINS];
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        m[c] = (chains >> c) & 1u ? ~(uint64_t)0 : 0;
+    for (unsigned k = 0; k < bits; k++) {
+        uint64_t s0 = k >= shl ? src[2 * (k - shl)] : 0, s1 = k >= shl ? src[2 * (k - shl) + 1] : 0;
+        for (unsigned c = 0; c < QEE_CHAINS; c++) {
+            T[QEE_LANES * k + 2 * c] = s0 & m[c];
+            T[QEE_LANES * k + 2 * c + 1] = s1 & m[c];
+        }
+    }
+}
+
+/* Chains whose index has bit b set (they add (B x) 2^b when starting at row c). */
+static unsigned chains_with_bit(unsigned b)
+{
+    unsigned m = 0;
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        m |= ((c >> b) & 1u) << c;
+    return m;
+}
+
+/* T = per-chain constants K[c] (sign-extended) in the lanes of chain c. */
+static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
+{
+    for (unsigned k = 0; k < bits; k++)
+        for (unsigned c = 0; c < QEE_CHAINS; c++) {
+            uint64_t m = bit_of(K[c], k) ? ~(uint64_t)0 : 0;
+            T[QEE_LANES * k + 2 * c] = m;
+            T[QEE_LANES * k + 2 * c + 1] = m;
+        }
 }
 
 /* One step of all chains: acc += D; D += K (a constant in every lane). */
@@ -131,8 +166,9 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
 {
     uint64_t *acc = scratch;                       /* bits x 16 */
     uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
-    uint64_t *row0 = D + QEE_LANES * bits;         /* bits x 2 */
-    uint64_t *col = row0 + 2 * bits;               /* bits x 2: planes of B x */
+    uint64_t *T = D + QEE_LANES * bits;            /* bits x 16: addends */
+    uint64_t *row0 = T + QEE_LANES * bits;         /* bits x 2: Q of row y0 */
+    uint64_t *col = row0 + 2 * bits;               /* bits x 2: B x */
     int64_t v[128];
     for (unsigned i = 0; i < 128; i++)
         v[i] = qee_value(q, x0 + (int)i, y0);
@@ -140,24 +176,25 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
     for (unsigned i = 0; i < 128; i++)
         v[i] = (int64_t)q->B * (x0 + (int)i);
     lanes_to_planes(v, bits, col);
-    for (unsigned k = 0; k < bits; k++) {
-        acc[QEE_LANES * k] = row0[2 * k];
-        acc[QEE_LANES * k + 1] = row0[2 * k + 1];
+    /* Chain c starts at row y0 + c: Q(x, y0 + c) = Q(x, y0) + c B x + C(2 y0 c + c^2) + E c,
+     * with c B x = sum over the bits b of c of (B x) 2^b. */
+    lanes_spread(acc, row0, 0, ~0u, bits);
+    for (unsigned b = 0; (1u << b) < QEE_CHAINS; b++) {
+        lanes_spread(T, col, b, chains_with_bit(b), bits);
+        lanes_add(acc, T, bits);
     }
-    /* Chain c starts at row c: one row down adds Bx + C(2y + 1) + E. */
-    for (unsigned c = 1; c < QEE_CHAINS; c++) {
-        int64_t y = (int64_t)y0 + c - 1;
-        lane_add(acc + 2 * c, acc + 2 * (c - 1), col, 0, (int64_t)q->C * (2 * y + 1) + q->E, bits);
-    }
-    /* D of chain c at its first row y0 + c: 8Bx (col shifted by 3 planes) + constant. */
-    for (unsigned k = 0; k < bits; k++)
-        for (unsigned h = 0; h < QEE_LANES; h++)
-            D[QEE_LANES * k + h] = 0;
-    for (unsigned c = 0; c < QEE_CHAINS; c++) {
-        int64_t y = (int64_t)y0 + c;
-        lane_add(D + 2 * c, D + 2 * c, col, 3, (int64_t)q->C * (16 * y + 64) + 8 * (int64_t)q->E,
-                 bits);
-    }
+    int64_t K[QEE_CHAINS];
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        K[c] = (int64_t)q->C * (2 * (int64_t)y0 * c + (int64_t)c * c) + (int64_t)q->E * c;
+    lanes_consts(T, K, bits);
+    lanes_add(acc, T, bits);
+    /* D of chain c at its first row y = y0 + c: 8 B x (col shifted by 3 planes)
+     * + C(16y + 64) + 8E. */
+    lanes_spread(D, col, 3, ~0u, bits);
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        K[c] = (int64_t)q->C * (16 * ((int64_t)y0 + c) + 64) + 8 * (int64_t)q->E;
+    lanes_consts(T, K, bits);
+    lanes_add(D, T, bits);
     for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
         emit(ctx, t, acc);
         if (t + 1 < 128 / QEE_CHAINS)

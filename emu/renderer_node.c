@@ -301,8 +301,10 @@ static rnode_item_t *rnode_pop_done(renderer_node_t *n)
     rnode_item_t *it = n->fifo[n->head];
     rpool_t *p = n->pool;
     if (!p) {
-        rnode_apply(n, it);
-        it->done = true;
+        if (!it->done) {          /* may have been done by a pool stopped since */
+            rnode_apply(n, it);
+            it->done = true;
+        }
     } else {
         pthread_mutex_lock(&p->mu);
         while (!it->done) {

@@ -211,6 +211,12 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
         json_double(&j, stats_ring_channel_utilization(m, c));
     }
     json_end_array(&j);
+    json_key(&j, "by_class");
+    json_begin_object(&j);
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        json_kv_double(&j, stats_class_name(k), stats_ring_class_utilization(m, k));
+    }
+    json_end_object(&j);
     json_end_object(&j);
     json_end_object(&j);
 

@@ -99,18 +99,31 @@ TEST(machine_test_pattern_matches_native_reference_small)
         CHECK_EQ(m.ring.bytes_sent[k], m.ring.bytes_delivered[k]);
     }
     CHECK_EQ(m.ring.bytes_sent[RING_CLASS_PIXELS], 6ull * (128 * 128 * 3 + p.ring_header_bytes));
+    /* Invariant: class shares of the ring add up to the aggregate utilisation. */
+    double sum = 0;
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        sum += stats_ring_class_utilization(&m, k);
+    }
+    CHECK_NEAR(sum, stats_ring_utilization(&m), 1e-12);
+    CHECK(stats_ring_utilization(&m) > 0.0 && stats_ring_utilization(&m) <= 1.0);
     machine_free(&m);
 }
 
 /* Frame-time hand calculation (emu/ARCHITECTURE.md, "Test-pattern frame
- * time"): the frame is bound by shipping the finished regions to the FB.
- * N regions of 128x128x3 bytes + header, each ceil(bytes/width) ring cycles;
- * with C channels some channel carries at least ceil(N/C) of them, so
- *     T >= T_hand = ceil(N / C) x t_pix      (a strict lower bound)
- * and the rest (command streams ~0.4 % of the bytes, the fill before the
- * first region is finished: one region's GP binning + encoding, its command
- * transfer and its renderer instruction cycles, ~50 us, and the last hop
- * latency) stays under 2 % of T_hand for the full 80-region screen. */
+ * time"), from the parameters only:
+ *   ring term:     N regions of 128x128x3 bytes + header, each
+ *                  t_pix = ceil(bytes / channel width) ring cycles; with C
+ *                  channels some channel carries >= ceil(N / C) of them.
+ *   renderer term: none of them can start before some region is finished;
+ *                  every region's stream holds at least the background
+ *                  (EN_ALL + three QEEs: 8 bits with 16 and 16 and 20
+ *                  fraction bits), costed with the PP rows' formula
+ *                  (fill + ceil((fraction + kept bits) / rate), PP_ISA.md),
+ *                  plus the 24-cycle readout of SEND_PIXELS.
+ *   T_hand = ceil(N / C) x t_pix + t_background  is a strict lower bound.
+ * The rest (GP binning/encoding of the first region, command streams ~0.4 %
+ * of the bytes, disc instructions of the first region, hop latency) stays
+ * under 2 % of T_hand for the full 80-region screen. */
 static void check_hand_calculation(const char *preset)
 {
     pp5_params_t p;
@@ -123,7 +136,11 @@ static void check_hand_calculation(const char *preset)
     uint64_t wire = 128 * 128 * 3 + p.ring_header_bytes;
     uint64_t words = (wire + p.ring_width_bits / 8 - 1) / (p.ring_width_bits / 8);
     double t_pix = words / p.ring_clock_hz;
-    double t_hand = (double)((regions + p.ring_channels - 1) / p.ring_channels) * t_pix;
+    uint64_t rate = p.pp.qee_bits_per_cycle;
+    uint64_t bg_cycles = p.pp.enable_op_cycles + 3ull * p.pp.qee_fill_cycles + 2 * ((16 + 8 + rate - 1) / rate) +
+                         (20 + 8 + rate - 1) / rate + 24ull * p.rport_cycles_per_bit;
+    double t_hand = (double)((regions + p.ring_channels - 1) / p.ring_channels) * t_pix +
+                    (double)bg_cycles / p.renderer_clock_hz;
     double t = stats_frame_time_s(&m);
     CHECK_MSG(t >= t_hand, "%s: frame %.9f s below the lower bound %.9f s", preset, t, t_hand);
     CHECK_MSG(t <= t_hand * 1.02, "%s: frame %.9f s more than 2%% above the hand value %.9f s", preset, t, t_hand);

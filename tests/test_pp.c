@@ -175,33 +175,56 @@ static void randomize(renderer_t *r, pp_ref_t *ref, uint64_t *s)
             p->mem[k] = (uint8_t)pp_array_bit(A->mem[k], q);
         p->e = (uint8_t)pp_array_bit(A->en, q);
         p->f = (uint8_t)pp_array_bit(A->flag, q);
-        for (unsigned b = 0; b < PP_BS_BLOCKS; b++) {
-            uint32_t v = 0;
-            for (unsigned k = 0; k < 32; k++)
-                v |= (uint32_t)pp_array_bit(backing_plane(r->bs, b, k), q) << k;
-            p->bs[b] = v;
-        }
+        memset(p->bs, 0, sizeof p->bs);
     }
+    /* Plane by plane: the 8 MB of backing-store planes do not fit in cache. */
+    for (unsigned b = 0; b < PP_BS_BLOCKS; b++)
+        for (unsigned k = 0; k < 32; k++) {
+            const uint64_t *plane = backing_plane(r->bs, b, k);
+            for (unsigned i = 0; i < ref->count; i++)
+                ref->pe[i].bs[b] |= (uint32_t)pp_array_bit(plane, ref->pe[i].index) << k;
+        }
 }
 
-/* Number of PPs whose state differs; reports the first difference. */
-static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *what, bool with_bs)
+/* Number of PPs whose state differs; reports the first difference.  Memory,
+ * E and F are compared PP by PP (the 208 planes stay in cache); the backing
+ * store (8 MB of planes) plane by plane, for block `bs_first` .. + bs_blocks. */
+static unsigned compare_range(const renderer_t *r, const pp_ref_t *ref, const char *what,
+                              unsigned mem_lo, unsigned mem_len, unsigned bs_first,
+                              unsigned bs_blocks)
 {
-    unsigned bad = 0;
+    uint8_t *diff = calloc(ref->count ? ref->count : 1, 1);
+    if (!diff)
+        return 1;
     for (unsigned i = 0; i < ref->count; i++) {
         const pp_ref_pe_t *p = &ref->pe[i];
         unsigned q = p->index;
         bool ok = p->e == pp_array_bit(r->array->en, q) && p->f == pp_array_bit(r->array->flag, q);
-        for (unsigned k = 0; ok && k < PP_MEM_BITS; k++)
+        for (unsigned k = mem_lo; ok && k < mem_lo + mem_len; k++)
             ok = p->mem[k] == pp_array_bit(r->array->mem[k], q);
-        for (unsigned b = 0; ok && with_bs && b < PP_BS_BLOCKS; b++)
-            for (unsigned k = 0; ok && k < 32; k++)
-                ok = ((p->bs[b] >> k) & 1u) == pp_array_bit(r->bs->plane[b * 32 + k], q);
-        if (!ok && bad++ == 0)
+        diff[i] = !ok;
+    }
+    for (unsigned b = bs_first; b < bs_first + bs_blocks; b++)
+        for (unsigned k = 0; k < 32; k++) {
+            const uint64_t *plane = r->bs->plane[b * 32 + k];
+            for (unsigned i = 0; i < ref->count; i++)
+                diff[i] |= ((ref->pe[i].bs[b] >> k) & 1u) != pp_array_bit(plane, ref->pe[i].index);
+        }
+    unsigned bad = 0;
+    for (unsigned i = 0; i < ref->count; i++) {
+        unsigned q = ref->pe[i].index;
+        if (diff[i] && bad++ == 0)
             CHECK_MSG(false, "%s: PP %u (row %u col %u) differs from the reference", what, q,
                       q / PP_ARRAY_DIM, q % PP_ARRAY_DIM);
     }
+    free(diff);
     return bad;
+}
+
+static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *what,
+                        unsigned bs_first, unsigned bs_blocks)
+{
+    return compare_range(r, ref, what, 0, PP_MEM_BITS, bs_first, bs_blocks);
 }
 
 /* Runs `n_insns` random instructions (every opcode appears) through both
@@ -251,8 +274,60 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
         pp_isa_format(&in, what, sizeof what);
         char ctx[260];
         snprintf(ctx, sizeof ctx, "seed %llu insn %u %s", (unsigned long long)seed, i, what);
-        /* The backing store (4096 bits per PP) is compared after stores and at the end. */
-        bad += compare(r, &ref, ctx, in.op == PP_OP_BSSTORE || i + 1 == n_insns);
+        /* After each instruction: E, F, the destination field and (after a
+         * store) the stored block; after the last one everything (so a write
+         * outside the destination is caught too). */
+        if (i + 1 == n_insns) {
+            bad += compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
+        } else {
+            const pp_op_info_t *info = pp_isa_info(in.op);
+            bad += compare_range(r, &ref, ctx, in.d, pp_isa_field_bits(&in, info->d_width), in.x,
+                                 in.op == PP_OP_BSSTORE ? 1 : 0);
+        }
+    }
+    pp_stream_free(&st);
+    pp_ref_free(&ref);
+    return bad;
+}
+
+/* The same comparison with the whole program sent as ONE stream (exercises
+ * decoding of consecutive instructions with immediates); compared at the end. */
+static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
+                                   unsigned n_insns)
+{
+    uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
+    renderer_t *r = new_renderer();
+    pp_ref_t ref;
+    if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
+        return 1;
+    randomize(r, &ref, &s);
+    int ox = (int)rng_below(&s, 2000) - 500, oy = (int)rng_below(&s, 2000) - 500;
+    renderer_set_region(r, ox, oy);
+    unsigned ops[PP_OP_LIMIT], n_ops = legal_ops(ops);
+    pp_stream_t st;
+    pp_stream_init(&st);
+    for (unsigned i = 0; i < n_insns; i++)
+        emit_random(&st, &s, i < n_ops ? ops[i] : ops[rng_below(&s, n_ops)]);
+    unsigned bad = 0;
+    renderer_exec_result_t res;
+    if (!CHECK_MSG(pp_stream_ok(&st), "encoder: %s", pp_stream_error(&st)) ||
+        !CHECK_MSG(renderer_execute(r, st.words, st.n_words, &res) == PP5_OK, "execute: %s",
+                   pp5_error_text())) {
+        bad = 1;
+    } else {
+        size_t pos = 0;
+        pp_insn_t in;
+        unsigned decoded = 0;
+        while (pos < st.n_words &&
+               pp_isa_decode(st.words, st.n_words, &pos, PP_MEM_BITS, &in) == PP5_OK) {
+            pp_ref_exec(&ref, &in, ox, oy);
+            decoded++;
+        }
+        CHECK_EQ(decoded, n_insns);
+        CHECK_EQ(res.instructions, n_insns);
+        char ctx[80];
+        snprintf(ctx, sizeof ctx, "one-stream program, seed %llu", (unsigned long long)seed);
+        bad = compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
     }
     pp_stream_free(&st);
     pp_ref_free(&ref);
@@ -261,8 +336,9 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
 
 TEST(pp_random_streams_match_reference_on_sampled_pps)
 {
-    /* 150 streams x 80 instructions; each compares 256 PPs (the four corners
-     * and 252 random ones) after every instruction. */
+    /* 150 streams x 80 instructions, each compared on 256 PPs (the four corners
+     * and 252 random ones) after every instruction; plus 30 programs of 120
+     * instructions sent as one stream and compared at the end. */
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
     unsigned pps[PPS], failed = 0;
     for (unsigned seed = 1; seed <= STREAMS; seed++) {
@@ -274,6 +350,8 @@ TEST(pp_random_streams_match_reference_on_sampled_pps)
         for (unsigned i = 4; i < PPS; i++)
             pps[i] = rng_below(&s, PP_COUNT);
         failed += run_random_stream(seed, pps, PPS, INSNS) != 0;
+        if (seed % 5 == 0)
+            failed += run_random_program(seed, pps, PPS, 120) != 0;
         if (failed)
             break;
     }

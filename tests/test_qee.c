@@ -1,6 +1,7 @@
 /* test_qee.c: QEE values exact for every pixel of a region (negative, large and zero
  * coefficients, screen-edge, negative and extreme origins, wrap to n bits), checked
  * against an independent 128-bit evaluation in this file. */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -202,6 +203,10 @@ TEST(qee_origin_outside_exact_range_is_a_firmware_error)
     renderer_set_region(r, 8065, 0);
     CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_E_FIRMWARE);
     CHECK(strstr(pp5_error_text(), "QEE") != NULL);
+    renderer_set_region(r, 0, INT_MIN);
+    CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_E_FIRMWARE);
+    renderer_set_region(r, -8064, 8064);
+    CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_OK);
     renderer_set_region(r, 0, 0);
     CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_OK);
     pp_stream_free(&s);
