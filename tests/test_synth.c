@@ -305,7 +305,7 @@ TEST(synth_shipped_traces_match_their_commands)
         char *out = strstr(p, "--out traces/");
         if (!end || !out || out > end)
             continue;
-        char cmd[512], name[128], args[1200], mine[700];
+        char cmd[512], name[128], args[1300], mine[700];
         snprintf(cmd, sizeof cmd, "%.*s", (int)(out - (p + 7)), p + 7);
         snprintf(name, sizeof name, "%.*s", (int)(end - (out + 6)), out + 6);
         snprintf(mine, sizeof mine, "%s/%s", dir, name + 7);
