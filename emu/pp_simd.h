@@ -9,6 +9,7 @@
 
 #include <stdint.h>
 
+#ifndef PP_SIMD_NO_V4   /* pp_array.c defines its vectors in pp_kernels.inc */
 typedef uint64_t v4_t __attribute__((vector_size(32)));
 /* The same vector as a memory access: any alignment of 8, may alias uint64_t. */
 typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias));
@@ -20,6 +21,7 @@ typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias)
 #define splat(x) ((v4_t){(x), (x), (x), (x)})
 /* Masked write: where e, new; elsewhere old. */
 #define merge(e, new_v, old) (((new_v) & (e)) | ((old) & ~(e)))
+#endif
 
 #define INLINE static inline __attribute__((always_inline))
 #if defined(__GNUC__) && !defined(__clang__)
@@ -31,10 +33,18 @@ typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias)
 #else
 #define UNROLL
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__) \
+    && !defined(PP5_NO_CLONES)
 #define PP_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define PP_CLONES
+#endif
+/* pp_array.c compiles its kernels twice (pp_kernels.inc): 32-byte vectors for
+ * AVX2 hosts and 16-byte ones for any other, chosen per array at run time. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(PP5_NO_CLONES)
+#define PP_HAVE_AVX2_COPY 1
+#else
+#define PP_HAVE_AVX2_COPY 0
 #endif
 
 #endif
