@@ -19,7 +19,8 @@ static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
 
 pp5_status_t pp_array_alloc(pp_array_t **out)
 {
-    pp_array_t *a = aligned_alloc(64, sizeof *a);
+    /* C11 aligned_alloc wants a size that is a multiple of the alignment. */
+    pp_array_t *a = aligned_alloc(64, (sizeof *a + 63) & ~(size_t)63);
     if (!a)
         return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte PP array", sizeof *a);
     a->use_avx2 = false;
