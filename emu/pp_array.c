@@ -4,7 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PP_SIMD_NO_V4
 #include "pp_simd.h"
 
 /* Kernels work on blocks of 16 words (1024 PPs) so that carries, enables and
@@ -122,7 +121,7 @@ static void exec_qee(pp_array_t *A, const pp_insn_t *in, int x0, int y0)
 #if PP_HAVE_AVX2_COPY
                    A->use_avx2 ? qee_store_step_avx2 :
 #endif
-                   qee_store_step_base, &ctx);
+                   qee_store_step_base, &ctx, A->use_avx2);
 }
 
 void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
