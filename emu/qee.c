@@ -160,8 +160,10 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
      * with c B x = sum over the bits b of c of (B x) 2^b. */
     lanes_spread(acc, row0, 0, ~0u, bits);
     for (unsigned b = 0; (1u << b) < QEE_CHAINS; b++) {
-        lanes_spread(T, col, b, chains_with_bit(b), bits);
-        KCALL(use_avx2, lanes_add, acc, T, bits);
+        uint64_t lane_mask[QEE_LANES];
+        for (unsigned j = 0; j < QEE_LANES; j++)
+            lane_mask[j] = (chains_with_bit(b) >> (j / 2)) & 1u ? ~(uint64_t)0 : 0;
+        KCALL(use_avx2, lanes_add_row, acc, col, b, lane_mask, bits);
     }
     int64_t K[QEE_CHAINS];
     for (unsigned c = 0; c < QEE_CHAINS; c++)
