@@ -133,7 +133,7 @@ static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
 #if PP_HAVE_AVX2_COPY
 #define KCALL(avx2, fn, ...) ((avx2) ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
 #else
-#define KCALL(avx2, fn, ...) fn##_base(__VA_ARGS__)
+#define KCALL(avx2, fn, ...) ((void)(avx2), fn##_base(__VA_ARGS__))
 #endif
 
 /* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
