@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>   /* truncate */
 
 #include "cliopt.h"
 #include "harness.h"
