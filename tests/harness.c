@@ -159,8 +159,9 @@ static double now_seconds(void)
 
 int main(int argc, char **argv)
 {
-    bool list = false;
-    int first_filter = 1;
+    /* volatile: both live across the setjmp below (-Wclobbered under -Werror). */
+    volatile bool list = false;
+    volatile int first_filter = 1;
     if (argc > 1 && strcmp(argv[1], "--list") == 0) {
         list = true;
         first_filter = 2;
