@@ -1,40 +1,32 @@
-/* pp_simd.h: the 4-word vector type and helpers shared by the bit-sliced kernels (pp_array.c, qee.c).
+/* pp_simd.h: build switches shared by the bit-sliced kernels (pp_array.c, qee.c).
  *
- * GCC/Clang vector extension: AVX2 when the function is compiled for it (the
- * PP_CLONES dispatchers are cloned for AVX2 and chosen at load time), else
- * pairs of SSE2 or scalar operations.  Every variant computes the same bits:
- * only bitwise operations are used, so results never depend on the host. */
+ * The kernels (pp_kernels.inc, qee_kernels.inc) are compiled twice: with
+ * 32-byte GCC vectors under `#pragma GCC target("avx2")` (names *_avx2) and
+ * with 16-byte vectors that any x86-64 (SSE2) or other host handles well
+ * (names *_base); each PP array picks one at run time (pp_array_set_avx2).
+ * Only bitwise operations are used, so both copies compute the same bits:
+ * results never depend on the host.  pp_vec.inc defines the vector helpers of
+ * one copy. */
 #ifndef PP5_PP_SIMD_H
 #define PP5_PP_SIMD_H
 
 #include <stdint.h>
-
-typedef uint64_t v4_t __attribute__((vector_size(32)));
-/* The same vector as a memory access: any alignment of 8, may alias uint64_t. */
-typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias));
-#define VW 4u                     /* words per vector */
-
-/* Macros rather than functions: no vector crosses a call (no -Wpsabi ABI notes). */
-#define ld(p) ((v4_t)*(const v4_mem_t *)(const void *)(p))
-#define st(p, v) (*(v4_mem_t *)(void *)(p) = (v))
-#define splat(x) ((v4_t){(x), (x), (x), (x)})
-/* Masked write: where e, new; elsewhere old. */
-#define merge(e, new_v, old) (((new_v) & (e)) | ((old) & ~(e)))
 
 #define INLINE static inline __attribute__((always_inline))
 #if defined(__GNUC__) && !defined(__clang__)
 /* Fully unroll the per-vector loops so carries and enables stay in registers. */
 #define UNROLL _Pragma("GCC unroll 8")
 /* GCC 12 reports the fully unrolled, fully initialised carry arrays of the
- * AVX2 clones as "may be used uninitialized" (a false positive). */
+ * kernels as "may be used uninitialized" (a false positive). */
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #else
 #define UNROLL
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define PP_CLONES __attribute__((target_clones("avx2", "default")))
+/* Whether the AVX2 copies are built (GCC on x86-64; PP5_NO_CLONES disables). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(PP5_NO_CLONES)
+#define PP_HAVE_AVX2_COPY 1
 #else
-#define PP_CLONES
+#define PP_HAVE_AVX2_COPY 0
 #endif
 
 #endif

@@ -76,26 +76,6 @@ static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
     }
 }
 
-/* dst += add over all 16 lanes (bit-sliced, `bits` planes of QEE_LANES words). */
-PP_CLONES static void lanes_add(uint64_t *dst, const uint64_t *add, unsigned bits)
-{
-    v4_t c[QEE_LANES / VW];
-    UNROLL
-    for (unsigned v = 0; v < QEE_LANES / VW; v++)
-        c[v] = splat(0);
-    for (unsigned k = 0; k < bits; k++) {
-        uint64_t *pd = dst + QEE_LANES * k;
-        const uint64_t *pa = add + QEE_LANES * k;
-        UNROLL
-        for (unsigned v = 0; v < QEE_LANES / VW; v++) {
-            v4_t a = ld(pd + v * VW), b = ld(pa + v * VW);
-            v4_t x = a ^ b;
-            st(pd + v * VW, x ^ c[v]);
-            c[v] = (a & b) | (c[v] & x);
-        }
-    }
-}
-
 /* T = the row planes `src` (2 words per plane) shifted up by `shl` planes
  * (times 2^shl), in the lanes of chain c if bit c of `chains` is set, else 0. */
 static void lanes_spread(uint64_t *T, const uint64_t *src, unsigned shl, unsigned chains,
@@ -133,28 +113,28 @@ static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
         }
 }
 
-/* One step of all chains: acc += D; D += K (a constant in every lane). */
-PP_CLONES static void chains_step(uint64_t *acc, uint64_t *D, int64_t K, unsigned bits)
-{
-    v4_t c1[QEE_LANES / VW], c2[QEE_LANES / VW];
-    UNROLL
-    for (unsigned v = 0; v < QEE_LANES / VW; v++)
-        c1[v] = c2[v] = splat(0);
-    for (unsigned k = 0; k < bits; k++) {
-        const v4_t kb = splat(bit_of(K, k) ? ~(uint64_t)0 : 0);
-        uint64_t *pa = acc + QEE_LANES * k, *pd = D + QEE_LANES * k;
-        UNROLL
-        for (unsigned v = 0; v < QEE_LANES / VW; v++) {
-            v4_t a = ld(pa + v * VW), d = ld(pd + v * VW);
-            v4_t x = a ^ d;
-            st(pa + v * VW, x ^ c1[v]);
-            c1[v] = (a & d) | (c1[v] & x);
-            v4_t y = d ^ kb;
-            st(pd + v * VW, y ^ c2[v]);
-            c2[v] = (d & kb) | (c2[v] & y);
-        }
-    }
-}
+#if PP_HAVE_AVX2_COPY
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define KN(name) name##_avx2
+#define VEC_BYTES 32
+#include "qee_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+#pragma GCC pop_options
+#endif
+
+#define KN(name) name##_base
+#define VEC_BYTES 16
+#include "qee_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+
+#if PP_HAVE_AVX2_COPY
+#define KCALL(avx2, fn, ...) ((avx2) ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
+#else
+#define KCALL(avx2, fn, ...) ((void)(avx2), fn##_base(__VA_ARGS__))
+#endif
 
 /* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
  * of all chains yields rows 8t..8t+7, i.e. 16 consecutive plane words.  Going
@@ -162,7 +142,7 @@ PP_CLONES static void chains_step(uint64_t *acc, uint64_t *D, int64_t K, unsigne
  * grows by 128C per step.  Everything is exact integer arithmetic done mod
  * 2^bits, so the low `bits` bits of Q are exact. */
 void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_step_fn emit, void *ctx)
+                    qee_step_fn emit, void *ctx, bool use_avx2)
 {
     uint64_t *acc = scratch;                       /* bits x 16 */
     uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
@@ -180,24 +160,26 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
      * with c B x = sum over the bits b of c of (B x) 2^b. */
     lanes_spread(acc, row0, 0, ~0u, bits);
     for (unsigned b = 0; (1u << b) < QEE_CHAINS; b++) {
-        lanes_spread(T, col, b, chains_with_bit(b), bits);
-        lanes_add(acc, T, bits);
+        uint64_t lane_mask[QEE_LANES];
+        for (unsigned j = 0; j < QEE_LANES; j++)
+            lane_mask[j] = (chains_with_bit(b) >> (j / 2)) & 1u ? ~(uint64_t)0 : 0;
+        KCALL(use_avx2, lanes_add_row, acc, col, b, lane_mask, bits);
     }
     int64_t K[QEE_CHAINS];
     for (unsigned c = 0; c < QEE_CHAINS; c++)
         K[c] = (int64_t)q->C * (2 * (int64_t)y0 * c + (int64_t)c * c) + (int64_t)q->E * c;
     lanes_consts(T, K, bits);
-    lanes_add(acc, T, bits);
+    KCALL(use_avx2, lanes_add, acc, T, bits);
     /* D of chain c at its first row y = y0 + c: 8 B x (col shifted by 3 planes)
      * + C(16y + 64) + 8E. */
     lanes_spread(D, col, 3, ~0u, bits);
     for (unsigned c = 0; c < QEE_CHAINS; c++)
         K[c] = (int64_t)q->C * (16 * ((int64_t)y0 + c) + 64) + 8 * (int64_t)q->E;
     lanes_consts(T, K, bits);
-    lanes_add(D, T, bits);
+    KCALL(use_avx2, lanes_add, D, T, bits);
     for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
         emit(ctx, t, acc);
         if (t + 1 < 128 / QEE_CHAINS)
-            chains_step(acc, D, 128 * (int64_t)q->C, bits);
+            KCALL(use_avx2, chains_step, acc, D, 128 * (int64_t)q->C, bits);
     }
 }

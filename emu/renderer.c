@@ -97,6 +97,8 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
 {
     renderer_exec_result_t out;
     memset(&out, 0, sizeof out);
+    if (!r->array || !r->bs)
+        return pp5_fail(PP5_E_RANGE, "renderer %d was not initialised", r->index);
     pp5_status_t st = validate_stream(r, words, n_words);
     if (st != PP5_OK) {
         if (res)

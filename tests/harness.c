@@ -204,8 +204,9 @@ static outcome_t run_one(const test_entry_t *t)
 
 int main(int argc, char **argv)
 {
-    bool list = false;
-    int first_filter = 1;
+    /* volatile: both live across the setjmp below (-Wclobbered under -Werror). */
+    volatile bool list = false;
+    volatile int first_filter = 1;
     if (argc > 1 && strcmp(argv[1], "--list") == 0) {
         list = true;
         first_filter = 2;

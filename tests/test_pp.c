@@ -238,6 +238,9 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
+    /* Odd seeds use the host's fastest kernels (AVX2 if present), even seeds the
+     * portable 16-byte ones: both must match the reference. */
+    pp_array_set_avx2(r->array, seed % 2);
     /* Region origins: screen interior, screen edges, negative, the QEE limit. */
     static const int origins[][2] = {{0, 0}, {1152, 896}, {-128, -640}, {8064, -8064},
                                      {640, 384}, {-8064, 8064}};
@@ -301,6 +304,7 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
+    pp_array_set_avx2(r->array, seed % 2);
     int ox = (int)rng_below(&s, 2000) - 500, oy = (int)rng_below(&s, 2000) - 500;
     renderer_set_region(r, ox, oy);
     unsigned ops[PP_OP_LIMIT], n_ops = legal_ops(ops);
@@ -489,59 +493,64 @@ TEST(pp_every_op_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 77;
     unsigned cases = 0, bad = 0;
-    for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
-        for (size_t wi = 0; wi < 4; wi++)
-            for (unsigned rep = 0; rep < 3; rep++) {
-                model_case_t c = {ops[oi], widths[wi], 1 + rng_below(&s, widths[wi]),
-                                  rng_below(&s, widths[wi] + 2), rng_below(&s, PP_COND_COUNT),
-                                  rng_below(&s, 2), (uint32_t)rng_next(&s)};
-                if (c.op == PP_OP_F_SET)
-                    c.k &= 1u;
-                for (unsigned p = 0; p < PP_COUNT; p++) {
-                    a[p] = (uint32_t)rng_next(&s);
-                    /* Equal operands are a case of their own for compares. */
-                    b[p] = rng_below(&s, 4) == 0 ? a[p] : (uint32_t)rng_next(&s);
-                    d[p] = (uint32_t)rng_next(&s);
-                    ctl[p] = (uint32_t)rng_next(&s) & 3u;   /* bit 0: F, bit 1: E */
-                }
-                if (c.op == PP_OP_CMPI && rep == 0)
-                    c.imm = a[0];
-                renderer_write_field(r, 0, 32, a);
-                renderer_write_field(r, 40, 32, b);
-                renderer_write_field(r, 80, 32, d);
-                renderer_write_field(r, 120, 2, ctl);
-                pp_stream_t st;
-                pp_stream_init(&st);
-                pp_emit_en_all(&st);
-                pp_emit_f_ld(&st, 121);
-                pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
-                pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
-                emit_case(&st, &c);
-                REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
-                REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
-                            pp5_error_text());
-                pp_stream_free(&st);
-                renderer_read_field(r, 80, c.n, out);
-                cases++;
-                for (unsigned p = 0; p < PP_COUNT; p++) {
-                    unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
-                    uint64_t want_d;
-                    unsigned want_f;
-                    model(&c, a[p], b[p], d[p] & mask_n(c.n), f_in, &want_d, &want_f);
-                    if (!e) {
-                        want_d = d[p] & mask_n(c.n);
-                        want_f = f_in;
+    for (int kernels = 0; kernels < 2; kernels++) {
+        pp_array_set_avx2(r->array, kernels);        /* portable, then the host's fastest */
+        for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
+            for (size_t wi = 0; wi < 4; wi++)
+                for (unsigned rep = 0; rep < 3; rep++) {
+                    model_case_t c = {ops[oi], widths[wi], 1 + rng_below(&s, widths[wi]),
+                                      rng_below(&s, widths[wi] + 2), rng_below(&s, PP_COND_COUNT),
+                                      rng_below(&s, 2), (uint32_t)rng_next(&s)};
+                    if (c.op == PP_OP_F_SET)
+                        c.k &= 1u;
+                    for (unsigned p = 0; p < PP_COUNT; p++) {
+                        a[p] = (uint32_t)rng_next(&s);
+                        /* Equal operands are a case of their own for compares. */
+                        b[p] = rng_below(&s, 4) == 0 ? a[p] : (uint32_t)rng_next(&s);
+                        d[p] = (uint32_t)rng_next(&s);
+                        ctl[p] = (uint32_t)rng_next(&s) & 3u;   /* bit 0: F, bit 1: E */
                     }
-                    unsigned got_f = pp_array_bit(r->array->flag, p);
-                    if ((out[p] != want_d || got_f != want_f) && bad++ < 3)
-                        CHECK_MSG(false, "%s n=%u m=%u k=%u cond=%u sgn=%d imm=0x%x PP %u "
+                    if (c.op == PP_OP_CMPI && rep == 0)
+                        c.imm = a[0];
+                    renderer_write_field(r, 0, 32, a);
+                    renderer_write_field(r, 40, 32, b);
+                    renderer_write_field(r, 80, 32, d);
+                    renderer_write_field(r, 120, 2, ctl);
+                    pp_stream_t st;
+                    pp_stream_init(&st);
+                    pp_emit_en_all(&st);
+                    pp_emit_f_ld(&st, 121);
+                    pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
+                    pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
+                    emit_case(&st, &c);
+                    REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
+                    REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
+                                pp5_error_text());
+                    pp_stream_free(&st);
+                    renderer_read_field(r, 80, c.n, out);
+                    cases++;
+                    for (unsigned p = 0; p < PP_COUNT; p++) {
+                        unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
+                        uint64_t want_d;
+                        unsigned want_f;
+                        model(&c, a[p], b[p], d[p] & mask_n(c.n), f_in, &want_d, &want_f);
+                        if (!e) {
+                            want_d = d[p] & mask_n(c.n);
+                            want_f = f_in;
+                        }
+                        unsigned got_f = pp_array_bit(r->array->flag, p);
+                        if ((out[p] != want_d || got_f != want_f) && bad++ < 3)
+                            CHECK_MSG(false, "%s n=%u m=%u k=%u cond=%u sgn=%d imm=0x%x PP %u "
                                   "(E=%u a=0x%x b=0x%x): d 0x%x want 0x%llx, F %u want %u",
-                                  pp_isa_info(c.op)->name, c.n, c.m, c.k, c.cond, c.sgn, c.imm, p,
-                                  e, a[p], b[p], out[p], (unsigned long long)want_d, got_f, want_f);
+                                  pp_isa_info(c.op)->name, c.n, c.m, c.k, c.cond, c.sgn, c.imm,
+                                  p, e, a[p], b[p], out[p], (unsigned long long)want_d, got_f,
+                                  want_f);
+                    }
                 }
-            }
+    }
+    pp_array_set_avx2(r->array, true);
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 19 * 4 * 3);
+    CHECK_EQ(cases, 2 * 19 * 4 * 3);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
@@ -591,4 +600,54 @@ TEST(pp_isa_doc_is_in_sync_with_the_table)
               "`pp5 pp-isa` table: regenerate it");
     free(table);
     free(doc);
+}
+
+TEST(pp_diffuse_shading_recipe_of_pp_isa_md)
+{
+    /* The recipe documented in emu/PP_ISA.md: I = max(0, N.L) >> 7 with signed
+     * 8-bit normal components in pixel memory and L as constants; checked
+     * against C for every PP. */
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    enum { NX = 0, NY = 8, NZ = 16, T = 24, DOT = 48, I = 72, W = 18 };
+    const int32_t L[3] = {-45, 90, 71};
+    uint32_t *nx = malloc(PP_COUNT * 4), *ny = malloc(PP_COUNT * 4), *nz = malloc(PP_COUNT * 4),
+             *out = malloc(PP_COUNT * 4);
+    REQUIRE(nx && ny && nz && out);
+    uint64_t s = 4242;
+    for (unsigned p = 0; p < PP_COUNT; p++) {
+        nx[p] = (uint32_t)rng_next(&s) & 0xff;
+        ny[p] = (uint32_t)rng_next(&s) & 0xff;
+        nz[p] = (uint32_t)rng_next(&s) & 0xff;
+    }
+    renderer_write_field(r, NX, 8, nx);
+    renderer_write_field(r, NY, 8, ny);
+    renderer_write_field(r, NZ, 8, nz);
+    pp_stream_t st;
+    pp_stream_init(&st);
+    pp_emit_muli(&st, DOT, W, NX, 8, true, L[0]);       /* dot = nx * Lx */
+    pp_emit_muli(&st, T, W, NY, 8, true, L[1]);
+    pp_emit_add(&st, DOT, DOT, T, W);                   /* += ny * Ly */
+    pp_emit_muli(&st, T, W, NZ, 8, true, L[2]);
+    pp_emit_add(&st, DOT, DOT, T, W);                   /* += nz * Lz */
+    pp_emit_cmpi(&st, PP_CMP_LTS, DOT, W, 0);           /* F = dot < 0 */
+    pp_emit_en_flag(&st);
+    pp_emit_seti(&st, DOT, W, 0);                       /* clamp where negative */
+    pp_emit_en_all(&st);
+    pp_emit_shr(&st, I, DOT, W, 7);                     /* fixed point: / 128 */
+    REQUIRE(pp_stream_ok(&st));
+    renderer_exec_result_t res;
+    REQUIRE(renderer_execute(r, st.words, st.n_words, &res) == PP5_OK);
+    pp_stream_free(&st);
+    renderer_read_field(r, I, 11, out);
+    unsigned bad = 0;
+    for (unsigned p = 0; p < PP_COUNT; p++) {
+        int32_t d = (int8_t)nx[p] * L[0] + (int8_t)ny[p] * L[1] + (int8_t)nz[p] * L[2];
+        uint32_t want = d < 0 ? 0u : (uint32_t)d >> 7;
+        bad += out[p] != want;
+    }
+    CHECK_EQ(bad, 0);
+    CHECK_EQ(res.instructions, 10);
+    CHECK(res.class_cycles[PP_CLASS_MUL] > 0);
+    free(nx); free(ny); free(nz); free(out);
 }

@@ -265,3 +265,48 @@ TEST(renderer_encoder_rejects_values_that_do_not_fit)
     CHECK(!pp_stream_ok(&s));
     pp_stream_free(&s);
 }
+
+TEST(renderer_survives_random_garbage_streams)
+{
+    /* Valid little programs with random bits flipped, and pure noise: every
+     * stream either runs or is rejected with PP5_E_FIRMWARE; never a crash or
+     * another status (the sanitizer build checks memory safety too). */
+    renderer_t *r = timing_renderer();
+    REQUIRE(r);
+    uint64_t s = 0x1234567;
+    unsigned ok = 0, rejected = 0, other = 0;
+    pp_stream_t st;
+    pp_stream_init(&st);
+    for (int t = 0; t < 3000; t++) {
+        s ^= s << 13; s ^= s >> 7; s ^= s << 17;
+        unsigned v = (unsigned)(s >> 8);
+        pp_stream_clear(&st);
+        pp_emit_add(&st, v % 64, (v >> 6) % 64, (v >> 12) % 64, 1 + (v >> 18) % 40);
+        pp_emit_qee(&st, v % 100, 1 + (v >> 7) % 64, (v >> 13) % 64, (int32_t)s, 2, -3, 4, 5,
+                    (int32_t)(s >> 32));
+        pp_emit_cmpi(&st, (v >> 3) % 6, v % 150, 1 + (v >> 9) % 40, s);
+        pp_emit_muli(&st, 150, 1 + v % 50, (v >> 6) % 100, 1 + (v >> 12) % 40, v & 1, (int32_t)s);
+        pp_emit_bsload(&st, (v >> 4) % 180, (v >> 11) % 128);
+        REQUIRE(pp_stream_ok(&st));
+        size_t n = st.n_words;
+        if (t % 3 == 1) {                         /* flip one bit */
+            st.words[(s >> 40) % n] ^= 1u << ((s >> 20) % 32);
+        } else if (t % 3 == 2) {                  /* noise, often a legal opcode */
+            for (size_t i = 0; i < n; i++) {
+                s ^= s << 13; s ^= s >> 7; s ^= s << 17;
+                st.words[i] = (uint32_t)s;
+                if ((s >> 40) % 2)
+                    st.words[i] = (st.words[i] & 0x00ffffffu) | (uint32_t)((s >> 32) % 0x3B) << 24;
+            }
+        }
+        renderer_set_region(r, (int)(s % 3000) - 1000, (int)((s >> 20) % 3000) - 1000);
+        pp5_status_t res = renderer_execute(r, st.words, n, NULL);
+        ok += res == PP5_OK;
+        rejected += res == PP5_E_FIRMWARE;
+        other += res != PP5_OK && res != PP5_E_FIRMWARE;
+    }
+    pp_stream_free(&st);
+    CHECK_EQ(other, 0);
+    CHECK(ok > 100);
+    CHECK(rejected > 100);
+}
