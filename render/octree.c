@@ -29,6 +29,7 @@ static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, i
 
 static void grid_free(octree_grid_t *g)
 {
+    free(g->empty_height);
     for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
         free(g->occupied[h]);
     memset(g, 0, sizeof *g);
@@ -41,6 +42,37 @@ void octree_free(octree_t *o)
         grid_free(&o->exact[n]);
     }
     memset(o, 0, sizeof *o);
+}
+
+/* Per cell: -1 if occupied, else the height of its largest empty ancestor
+ * (the node a top-down descent stops at), so a query is one lookup. */
+static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
+{
+    int nx = g->nx[0], ny = g->ny[0], nz = g->nz[0];
+    size_t count = (size_t)nx * ny * nz;
+    int8_t *e = malloc(count);
+    if (!e)
+        return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++)
+            for (int x = 0; x < nx; x++) {
+                size_t i = ((size_t)z * ny + y) * nx + x;
+                if (g->occupied[0][i]) {
+                    e[i] = -1;
+                    continue;
+                }
+                int h = 0;
+                while (h + 1 < g->heights) {
+                    int px = x >> (h + 1), py = y >> (h + 1), pz = z >> (h + 1);
+                    if (g->occupied[h + 1][((size_t)pz * g->ny[h + 1] + py) * g->nx[h + 1] + px])
+                        break;
+                    h++;
+                }
+                e[i] = (int8_t)h;
+            }
+    g->empty_height = e;
+    *bytes += count;
+    return PP5_OK;
 }
 
 static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int stride,
@@ -101,7 +133,7 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
         g->heights = h + 1;
         *bytes += c;
     }
-    return PP5_OK;
+    return empty_height_build(g, bytes);
 }
 
 pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
@@ -134,15 +166,9 @@ int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], fl
         int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
         c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
     }
-    if (g->occupied[0][((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]])
+    int h = g->empty_height[((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]];
+    if (h < 0)
         return -1;
-    int h = 0;
-    while (h + 1 < g->heights) {
-        int x = c[0] >> (h + 1), y = c[1] >> (h + 1), z = c[2] >> (h + 1);
-        if (g->occupied[h + 1][((size_t)z * g->ny[h + 1] + y) * g->nx[h + 1] + x])
-            break;
-        h++;
-    }
     float scale = (float)(1 << n);
     for (int a = 0; a < 3; a++) {
         int first = (c[a] >> h) << h;

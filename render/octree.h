@@ -17,8 +17,8 @@
  *
  * Per sample the ray tracer asks for the largest empty node containing the
  * sample's cell.  The answer is the one the paper's top-down descent finds
- * (the first empty node on the path from the root), computed bottom-up
- * because most queries hit an occupied leaf and stop after one lookup.  The
+ * (the first empty node on the path from the root), precomputed per cell
+ * at build time (empty_height) so that each query is a single lookup.  The
  * ray then jumps to its first sample beyond that node; since skipped samples
  * are exactly zero the image is bit-identical to a run without skipping. */
 #ifndef PP5_OCTREE_H
@@ -34,6 +34,7 @@ typedef struct {
     int heights;                       /* number of pyramid levels over this cell grid */
     int nx[OCTREE_MAX_HEIGHT], ny[OCTREE_MAX_HEIGHT], nz[OCTREE_MAX_HEIGHT];
     uint8_t *occupied[OCTREE_MAX_HEIGHT]; /* 1 = may hold a non-zero sample */
+    int8_t *empty_height;              /* per cell: -1 occupied, else largest empty ancestor */
 } octree_grid_t;
 
 typedef struct {
