@@ -25,6 +25,7 @@
 #define PP5_OCTREE_H
 
 #include <stdbool.h>
+#include <math.h>
 #include <stdint.h>
 #include "mip3d.h"
 
@@ -53,7 +54,28 @@ void octree_free(octree_t *o);
  * the largest empty node containing it, with the node's extent in level-0
  * voxel coordinates in lo/hi (+-INFINITY on faces that extend to the edge of
  * the clamped grid). */
-int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
-                      float hi[3]);
+static inline int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3],
+                                    float lo[3], float hi[3])
+{
+    if (n >= o->mip_levels)
+        n = o->mip_levels - 1;
+    const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
+    int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
+    for (int a = 0; a < 3; a++) {
+        int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
+        c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
+    }
+    int h = g->empty_height[((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]];
+    if (h < 0)
+        return -1;
+    float scale = (float)(1 << n);
+    for (int a = 0; a < 3; a++) {
+        int first = (c[a] >> h) << h;
+        int last = first + (1 << h);      /* exclusive, in level-n cell units */
+        lo[a] = first == 0 ? -INFINITY : ((float)first + 0.5f) * scale - 0.5f;
+        hi[a] = last >= dims[a] ? INFINITY : ((float)last + 0.5f) * scale - 0.5f;
+    }
+    return h;
+}
 
 #endif

@@ -289,7 +289,7 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
                         n_skipped++;
                     } while (t < t_exit && t <= t1);
                 } else {
-                    long k_new = (long)ceilf((t_exit - t0) / base);
+                    long k_new = -(long)mip3d_floor_int(-(t_exit - t0) / base);  /* ceil */
                     if (k_new <= k)
                         k_new = k + 1;
                     n_skipped += (uint64_t)(k_new - k);
