@@ -72,6 +72,28 @@ static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
             }
     g->empty_height = e;
     *bytes += count;
+    /* Bounding box of the occupied cells (see octree.h). */
+    int lo[3] = {nx, ny, nz}, hi[3] = {-1, -1, -1};
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++)
+            for (int x = 0; x < nx; x++) {
+                if (e[((size_t)z * ny + y) * nx + x] >= 0)
+                    continue;
+                int c[3] = {x, y, z};
+                for (int a = 0; a < 3; a++) {
+                    if (c[a] < lo[a])
+                        lo[a] = c[a];
+                    if (c[a] > hi[a])
+                        hi[a] = c[a];
+                }
+            }
+    g->any_occupied = hi[0] >= 0;
+    int dims[3] = {nx, ny, nz};
+    float scale = (float)(1 << g->level);
+    for (int a = 0; a < 3 && g->any_occupied; a++) {
+        g->box_lo[a] = lo[a] == 0 ? -INFINITY : ((float)lo[a] + 0.5f) * scale - 0.5f;
+        g->box_hi[a] = hi[a] + 1 >= dims[a] ? INFINITY : ((float)(hi[a] + 1) + 0.5f) * scale - 0.5f;
+    }
     return PP5_OK;
 }
 
@@ -141,6 +163,7 @@ pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
     (void)threads;
     memset(o, 0, sizeof *o);
     for (int n = 0; n < m->levels; n++) {
+        o->grid[n].level = o->exact[n].level = n;
         pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, OCTREE_BLEND_LO,
                                      OCTREE_BLEND_HI, &o->bytes);
         if (st == PP5_OK)

@@ -32,10 +32,15 @@
 #define OCTREE_MAX_HEIGHT 16
 
 typedef struct {
+    int level;                         /* the mip level n whose samples this grid serves */
     int heights;                       /* number of pyramid levels over this cell grid */
     int nx[OCTREE_MAX_HEIGHT], ny[OCTREE_MAX_HEIGHT], nz[OCTREE_MAX_HEIGHT];
     uint8_t *occupied[OCTREE_MAX_HEIGHT]; /* 1 = may hold a non-zero sample */
     int8_t *empty_height;              /* per cell: -1 occupied, else largest empty ancestor */
+    /* Extent of the occupied cells in level-0 voxel coordinates (+-INFINITY
+     * where it reaches a clamped face); any_occupied false: all empty. */
+    bool any_occupied;
+    float box_lo[3], box_hi[3];
 } octree_grid_t;
 
 typedef struct {

@@ -243,6 +243,40 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
     float spacing = base;
     float level3d = log2f(spacing) - r->level3d_offset;
     level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+    if (r->octree && !perspective) {
+        /* Parallel rays sample one level: start and stop at the occupied
+         * cells' bounding box of that level's grid, on the same sample
+         * lattice (samples outside it are exactly zero). */
+        int n = (int)level3d;
+        const octree_grid_t *g = level3d == (float)n ? &r->octree->exact[n]
+                                                     : &r->octree->grid[n];
+        if (!g->any_occupied) {
+            counts->samples_skipped += (uint64_t)((t1 - t0) / base) + 1;
+            return;
+        }
+        float a = -INFINITY, b = INFINITY;
+        for (int ax = 0; ax < 3; ax++) {
+            if (dv[ax] == 0.0f)
+                continue;
+            float ta = (g->box_lo[ax] - ov[ax]) * inv_dv[ax];
+            float tb = (g->box_hi[ax] - ov[ax]) * inv_dv[ax];
+            if (ta > tb) {
+                float sw = ta;
+                ta = tb;
+                tb = sw;
+            }
+            a = fmaxf(a, ta);
+            b = fminf(b, tb);
+        }
+        /* Margins of 1e-3 keep rounding from dropping a boundary sample. */
+        if (a - 1e-3f > t0) {
+            k = -(long)mip3d_floor_int(-(a - 1e-3f - t0) / base);
+            t = t0 + (float)k * base;
+            n_skipped += (uint64_t)k;
+        }
+        if (b + 1e-3f < t1)
+            t1 = b + 1e-3f;
+    }
     while (t <= t1) {
         if (perspective) {
             spacing = t * (growth - 1.0f);
