@@ -183,6 +183,22 @@ void mip2d_mark_pixel(mip2d_t *m, int x, int y, float level)
         mark_level(m, lo + 1, x, y);
 }
 
+bool mip2d_mark_row(mip2d_t *m, int y, const float *levels, int width)
+{
+    bool full = true;
+    for (int x = 0; x < width; x++) {
+        float level = levels[x];
+        if (level == 0.0f) {
+            /* Level 0 lands exactly on its own texel. */
+            m->need[0][(size_t)y * m->w[0] + x] = 1;
+            continue;
+        }
+        full = false;
+        mip2d_mark_pixel(m, x, y, level);
+    }
+    return full;
+}
+
 static void bilerp(const mip2d_t *m, int l, int x, int y, float rgb[3])
 {
     int i = x >> l, j = y >> l;

@@ -100,6 +100,9 @@ static inline void mip2d_texel_point(int m, int i, int j, float *px, float *py)
 /* Marks the texels pixel (x, y) needs at 2D level `level` (floor and ceil
  * levels, corners with non-zero weight). */
 void mip2d_mark_pixel(mip2d_t *m, int x, int y, float level);
+/* mip2d_mark_pixel for pixels (0..width-1, y) with levels[x]; returns false
+ * if any level is above 0 (so true means the row is at full resolution). */
+bool mip2d_mark_row(mip2d_t *m, int y, const float *levels, int width);
 /* RenderPixel's interpolation: colour of pixel (x, y) at `level` from cast
  * texels (all needed texels must have been cast). */
 void mip2d_pixel(const mip2d_t *m, int x, int y, float level, float rgb[3]);

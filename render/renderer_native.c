@@ -220,14 +220,9 @@ pp5_status_t renderer_frame(renderer_t *r, const render_settings_t *s, image8_t 
     st = parallel_for(threads, s->height, job_levels_row, job);
     mip2d_clear_need(&r->mip2d);
     bool full = true;
-    for (int y = 0; y < s->height; y++) {
-        const float *best = r->level_best + (size_t)y * s->width;
-        for (int x = 0; x < s->width; x++) {
-            mip2d_mark_pixel(&r->mip2d, x, y, best[x]);
-            if (best[x] > 0.0f)
-                full = false;
-        }
-    }
+    for (int y = 0; y < s->height; y++)
+        if (!mip2d_mark_row(&r->mip2d, y, r->level_best + (size_t)y * s->width, s->width))
+            full = false;
     /* Phase 2: cast every needed, not yet cast texel once. */
     double t2 = now_ms();
     job->row_level[0] = 0;
