@@ -1,6 +1,8 @@
 /* octree.c: occupancy cell grids (dilated opacity) and their OR pyramids. */
 #include "octree.h"
 
+#include "parallel.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -158,22 +160,44 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
     return empty_height_build(g, bytes);
 }
 
+typedef struct {
+    octree_t *o;
+    const mip3d_t *m;
+    pp5_status_t status[2 * MIP3D_MAX_LEVELS];
+    size_t bytes[2 * MIP3D_MAX_LEVELS];
+} octree_job_t;
+
+/* Item 2n builds the blend grid of level n, item 2n+1 its exact grid. */
+static void octree_build_item(void *ctx, int item, int thread)
+{
+    (void)thread;
+    octree_job_t *job = ctx;
+    int n = item / 2;
+    bool exact = item % 2;
+    octree_grid_t *g = exact ? &job->o->exact[n] : &job->o->grid[n];
+    g->level = n;
+    job->status[item] = grid_build(g, &job->m->level[n], job->m->stride,
+                                   exact ? OCTREE_EXACT_LO : OCTREE_BLEND_LO,
+                                   exact ? OCTREE_EXACT_HI : OCTREE_BLEND_HI, &job->bytes[item]);
+}
+
 pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
 {
-    (void)threads;
     memset(o, 0, sizeof *o);
-    for (int n = 0; n < m->levels; n++) {
-        o->grid[n].level = o->exact[n].level = n;
-        pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, OCTREE_BLEND_LO,
-                                     OCTREE_BLEND_HI, &o->bytes);
-        if (st == PP5_OK)
-            st = grid_build(&o->exact[n], &m->level[n], m->stride, OCTREE_EXACT_LO,
-                            OCTREE_EXACT_HI, &o->bytes);
-        o->mip_levels = n + 1;
-        if (st != PP5_OK) {
-            octree_free(o);
-            return st;
-        }
+    octree_job_t *job = calloc(1, sizeof *job);
+    if (!job)
+        return pp5_fail(PP5_E_NOMEM, "octree: out of memory");
+    job->o = o;
+    job->m = m;
+    o->mip_levels = m->levels;
+    pp5_status_t st = parallel_for(threads, 2 * m->levels, octree_build_item, job);
+    for (int i = 0; i < 2 * m->levels; i++) {
+        o->bytes += job->bytes[i];
+        if (st == PP5_OK && job->status[i] != PP5_OK)
+            st = pp5_fail(job->status[i], "octree: cannot allocate the occupancy grids");
     }
-    return PP5_OK;
+    free(job);
+    if (st != PP5_OK)
+        octree_free(o);
+    return st;
 }
