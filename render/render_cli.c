@@ -146,6 +146,12 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         s.gaze_x = 0.5 * (s.width - 1);
         s.gaze_y = 0.5 * (s.height - 1);
     }
+    gaze_model_t check;       /* refuse a bad display before the costly build */
+    st = gaze_model_init(&check, &s.display, s.width, s.height);
+    if (st != PP5_OK) {
+        scene_free(&sc);
+        return st;
+    }
     renderer_t r;
     st = renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
     if (st != PP5_OK) {
