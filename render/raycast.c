@@ -175,8 +175,8 @@ static bool clip_box(const float o[3], const float d[3], const float hi[3], floa
 
 /* Viewpoint-dependent shading of one sample's components: writes the
  * opacity-weighted colour and returns the opacity. */
-static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float view[3],
-                                 const float half[3], float c[3])
+static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float half[3],
+                                 float c[3])
 {
     float a = s[MIP3D_A];
     c[0] = s[MIP3D_R];
@@ -194,7 +194,6 @@ static inline float shade_sample(const raycast_ctx_t *r, const float *s, const f
         for (int k = 0; k < 3; k++)
             c[k] *= d;
     }
-    (void)view;
     if (len > 0.0f) {
         float sp = a * shade_specular(r->shade, n, half);
         for (int k = 0; k < 3; k++)
@@ -336,7 +335,7 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
         mip3d_sample(r->mip, level3d, p, comp);
         n_samples++;
         float c[3];
-        float a = shade_sample(r, comp, view, half, c);
+        float a = shade_sample(r, comp, half, c);
         if (a > 0.0f) {
             if (spacing != 1.0f) {
                 /* Opacity per unit length is fixed; a sample standing for
