@@ -4,17 +4,11 @@
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "cliopt.h"
-#include "json.h"
-#include "plot.h"
-#include "quality.h"
 #include "registry.h"
 #include "render_cli.h"
-#include "renderer_native.h"
-#include "scene.h"
 
 static void render_usage(void)
 {
