@@ -27,6 +27,11 @@ typedef struct {
     float opacity;      /* 0..1 at the surface */
     float width_vox;    /* transition thickness r, voxels */
     float rgb[3];       /* material colour 0..1 */
+    /* > 0: not a contour but a value ramp (the 1D transfer functions of VTK
+     * and VolPack, for like-for-like peer comparisons): opacity rises
+     * linearly from 0 at value - ramp_width/2 to `opacity` at
+     * value + ramp_width/2 and stays there; gradient and width_vox unused. */
+    float ramp_width;
 } classify_contour_t;
 
 typedef struct {

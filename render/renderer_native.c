@@ -82,10 +82,14 @@ static bool same_view(const render_settings_t *a, const render_settings_t *b)
            memcmp(&a->display, &b->display, sizeof a->display) == 0;
 }
 
+#define MARK_MAX_BANDS 1024
+
 typedef struct {
     renderer_t *r;
     const render_settings_t *s;
     raycast_ctx_t ray;
+    int band_rows, bands, band_parity;
+    bool band_full[MARK_MAX_BANDS];
     double gaze_scale;            /* eccentricity divisor for progressive growth */
     image8_t *out;
     int rows_total;               /* texel rows over all levels */
@@ -114,6 +118,24 @@ static void job_levels_row(void *ctx, int y, int thread)
         if (level < best[x])
             best[x] = level;
     }
+}
+
+/* Marks the texels needed by band 2*item + parity. */
+static void job_mark_band(void *ctx, int item, int thread)
+{
+    (void)thread;
+    frame_job_t *job = ctx;
+    renderer_t *r = job->r;
+    int band = 2 * item + job->band_parity;
+    int y0 = band * job->band_rows, y1 = y0 + job->band_rows;
+    if (y1 > job->s->height)
+        y1 = job->s->height;
+    bool full = true;
+    for (int y = y0; y < y1; y++)
+        if (!mip2d_mark_row(&r->mip2d, y, r->level_best + (size_t)y * job->s->width,
+                            job->s->width))
+            full = false;
+    job->band_full[band] = full;
 }
 
 static void job_cast_row(void *ctx, int item, int thread)
@@ -219,10 +241,24 @@ pp5_status_t renderer_frame(renderer_t *r, const render_settings_t *s, image8_t 
     double t1 = now_ms();
     st = parallel_for(threads, s->height, job_levels_row, job);
     mip2d_clear_need(&r->mip2d);
+    /* Marking in bands of rows: a band writes texel rows up to and including
+     * the first row of the next band, so even bands run in parallel, then odd
+     * ones (flags are only ever set, so the result is order-independent). */
+    job->band_rows = 16 << (r->mip2d.levels - 1);
+    job->bands = (s->height + job->band_rows - 1) / job->band_rows;
+    /* Heights are at most 16384 and bands at least 16 rows. */
+    PP5_ASSERT(job->bands <= MARK_MAX_BANDS, "too many marking bands");
+    if (st == PP5_OK) {
+        job->band_parity = 0;
+        st = parallel_for(threads, (job->bands + 1) / 2, job_mark_band, job);
+    }
+    if (st == PP5_OK) {
+        job->band_parity = 1;
+        st = parallel_for(threads, job->bands / 2, job_mark_band, job);
+    }
     bool full = true;
-    for (int y = 0; y < s->height; y++)
-        if (!mip2d_mark_row(&r->mip2d, y, r->level_best + (size_t)y * s->width, s->width))
-            full = false;
+    for (int b = 0; b < job->bands; b++)
+        full = full && job->band_full[b];
     /* Phase 2: cast every needed, not yet cast texel once. */
     double t2 = now_ms();
     job->row_level[0] = 0;

@@ -16,7 +16,7 @@ static void make_constant_mip(mip3d_t *m, int n)
     for (size_t i = 0; i < (size_t)n * n * n; i++)
         v.data[i] = 10.0f;
     v.spacing[0] = v.spacing[1] = v.spacing[2] = 1.0;
-    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1.0f, {1.0f, 1.0f, 1.0f}}}};
+    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1.0f, {1.0f, 1.0f, 1.0f}, 0.0f}}};
     shade_params_t sh;
     shade_defaults(&sh);
     REQUIRE(mip3d_build(m, &v, &tf, &sh, 1) == PP5_OK);
