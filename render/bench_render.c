@@ -69,7 +69,7 @@ static int bench_render(const pp5_bench_opts_t *o)
         sizes[0] = 128;
         sizes[1] = 256;
     }
-    int reps = o->quick ? 1 : 3;
+    int reps = o->quick ? 1 : 5;
     double full_ms_first = 0.0, gaze_ms_first = 0.0;
     for (int k = 0; k < 2; k++) {
         render_settings_t s;
