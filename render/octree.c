@@ -14,6 +14,22 @@
 #define OCTREE_EXACT_LO 0
 #define OCTREE_EXACT_HI 1
 
+/* The same dilation across whole rows or slices: block i of `size` bytes
+ * becomes the OR of blocks [i-lo, i+hi]; contiguous, so it vectorises. */
+static void dilate_blocks(const uint8_t *in, uint8_t *out, int n, size_t size, int lo, int hi)
+{
+    for (int i = 0; i < n; i++) {
+        int a = i - lo < 0 ? 0 : i - lo, b = i + hi > n - 1 ? n - 1 : i + hi;
+        uint8_t *o = out + (size_t)i * size;
+        memcpy(o, in + (size_t)a * size, size);
+        for (int j = a + 1; j <= b; j++) {
+            const uint8_t *src = in + (size_t)j * size;
+            for (size_t k = 0; k < size; k++)
+                o[k] |= src[k];
+        }
+    }
+}
+
 static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, int lo, int hi)
 {
     for (int i = 0; i < n; i++) {
@@ -118,16 +134,11 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
             size_t base = ((size_t)z * ny + y) * nx;
             dilate_line(a + base, b + base, nx, 1, lo, hi);
         }
-    for (int z = 0; z < nz; z++)
-        for (int x = 0; x < nx; x++) {
-            size_t base = (size_t)z * ny * nx + x;
-            dilate_line(b + base, a + base, ny, (size_t)nx, lo, hi);
-        }
-    for (int y = 0; y < ny; y++)
-        for (int x = 0; x < nx; x++) {
-            size_t base = (size_t)y * nx + x;
-            dilate_line(a + base, b + base, nz, (size_t)nx * ny, lo, hi);
-        }
+    for (int z = 0; z < nz; z++) {
+        size_t base = (size_t)z * ny * nx;
+        dilate_blocks(b + base, a + base, ny, (size_t)nx, lo, hi);
+    }
+    dilate_blocks(a, b, nz, (size_t)nx * ny, lo, hi);
     free(a);
     g->occupied[0] = b;
     g->nx[0] = nx;
