@@ -147,13 +147,27 @@ static void job_cast_row(void *ctx, int item, int thread)
         l++;
     int j = item - job->row_level[l];
     size_t base = (size_t)j * m->w[l];
-    for (int i = 0; i < m->w[l]; i++) {
-        if (!m->need[l][base + i] || m->cast[l][base + i])
-            continue;
-        float px, py;
-        mip2d_texel_point(l, i, j, &px, &py);
-        raycast_trace(&job->ray, px, py, l, m->rgb[l] + (base + i) * 3, &job->counts[thread].c);
-        m->cast[l][base + i] = 1;
+    /* Gather the row's uncast, needed texels and trace them in batches. */
+    float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    int idx[RAYCAST_BATCH], n = 0;
+    for (int i = 0; i <= m->w[l]; i++) {
+        if (i < m->w[l]) {
+            if (!m->need[l][base + i] || m->cast[l][base + i])
+                continue;
+            mip2d_texel_point(l, i, j, &px[n], &py[n]);
+            idx[n++] = i;
+        }
+        if (n == RAYCAST_BATCH || (i == m->w[l] && n > 0)) {
+            raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+            for (int b = 0; b < n; b++) {
+                float *dst = m->rgb[l] + (base + (size_t)idx[b]) * 3;
+                dst[0] = rgb[b][0];
+                dst[1] = rgb[b][1];
+                dst[2] = rgb[b][2];
+                m->cast[l][base + (size_t)idx[b]] = 1;
+            }
+            n = 0;
+        }
     }
 }
 
