@@ -30,19 +30,16 @@ static void dilate_blocks(const uint8_t *in, uint8_t *out, int n, size_t size, i
     }
 }
 
-static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, int lo, int hi)
+static void dilate_line(const uint8_t *in, uint8_t *out, int n, int lo, int hi)
 {
-    for (int i = 0; i < n; i++) {
-        int a = i - lo, b = i + hi;
-        if (a < 0)
-            a = 0;
-        if (b > n - 1)
-            b = n - 1;
-        uint8_t v = 0;
-        for (int j = a; j <= b && !v; j++)
-            v = in[(size_t)j * stride];
-        out[(size_t)i * stride] = v;
-    }
+    /* out[i] = OR of in[i-lo .. i+hi], as shifted whole-row ORs (vectorise). */
+    memcpy(out, in, (size_t)n);
+    for (int s = 1; s <= hi && s < n; s++)
+        for (int i = 0; i < n - s; i++)
+            out[i] |= in[i + s];
+    for (int s = 1; s <= lo && s < n; s++)
+        for (int i = s; i < n; i++)
+            out[i] |= in[i - s];
 }
 
 static void grid_free(octree_grid_t *g)
@@ -68,26 +65,40 @@ static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
 {
     int nx = g->nx[0], ny = g->ny[0], nz = g->nz[0];
     size_t count = (size_t)nx * ny * nz;
-    int8_t *e = malloc(count);
-    if (!e)
-        return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
-    for (int z = 0; z < nz; z++)
-        for (int y = 0; y < ny; y++)
-            for (int x = 0; x < nx; x++) {
-                size_t i = ((size_t)z * ny + y) * nx + x;
-                if (g->occupied[0][i]) {
-                    e[i] = -1;
-                    continue;
+    /* Top-down: a node inherits its parent's answer when the parent lies in
+     * an empty subtree, else it is its own height (empty) or -1. */
+    int8_t *level[OCTREE_MAX_HEIGHT] = {0};
+    int top = g->heights - 1;
+    pp5_status_t st = PP5_OK;
+    for (int h = top; h >= 0 && st == PP5_OK; h--) {
+        int cx = g->nx[h], cy = g->ny[h], cz = g->nz[h];
+        int8_t *e = malloc((size_t)cx * cy * cz);
+        if (!e) {
+            st = pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
+            break;
+        }
+        level[h] = e;
+        const uint8_t *occ = g->occupied[h];
+        const int8_t *up = h < top ? level[h + 1] : NULL;
+        for (int z = 0; z < cz; z++)
+            for (int y = 0; y < cy; y++) {
+                size_t row = ((size_t)z * cy + y) * cx;
+                const int8_t *uprow = up ? up + ((size_t)(z >> 1) * g->ny[h + 1] + (size_t)(y >> 1)) *
+                                                    g->nx[h + 1]
+                                         : NULL;
+                for (int x = 0; x < cx; x++) {
+                    int8_t v = uprow ? uprow[x >> 1] : -1;
+                    e[row + x] = v >= 0 ? v : (occ[row + x] ? -1 : (int8_t)h);
                 }
-                int h = 0;
-                while (h + 1 < g->heights) {
-                    int px = x >> (h + 1), py = y >> (h + 1), pz = z >> (h + 1);
-                    if (g->occupied[h + 1][((size_t)pz * g->ny[h + 1] + py) * g->nx[h + 1] + px])
-                        break;
-                    h++;
-                }
-                e[i] = (int8_t)h;
             }
+    }
+    for (int h = 1; h <= top; h++)
+        free(level[h]);
+    if (st != PP5_OK) {
+        free(level[0]);
+        return st;
+    }
+    int8_t *e = level[0];
     g->empty_height = e;
     *bytes += count;
     /* Bounding box of the occupied cells (see octree.h). */
@@ -132,7 +143,7 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
     for (int z = 0; z < nz; z++)
         for (int y = 0; y < ny; y++) {
             size_t base = ((size_t)z * ny + y) * nx;
-            dilate_line(a + base, b + base, nx, 1, lo, hi);
+            dilate_line(a + base, b + base, nx, lo, hi);
         }
     for (int z = 0; z < nz; z++) {
         size_t base = (size_t)z * ny * nx;
