@@ -152,8 +152,8 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         scene_free(&sc);
         return st;
     }
-    renderer_t r;
-    st = renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
+    native_renderer_t r;
+    st = native_renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
     if (st != PP5_OK) {
         scene_free(&sc);
         return st;

@@ -125,7 +125,7 @@ static void job_mark_band(void *ctx, int item, int thread)
 {
     (void)thread;
     frame_job_t *job = ctx;
-    renderer_t *r = job->r;
+    native_renderer_t *r = job->r;
     int band = 2 * item + job->band_parity;
     int y0 = band * job->band_rows, y1 = y0 + job->band_rows;
     if (y1 > job->s->height)
