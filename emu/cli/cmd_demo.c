@@ -77,9 +77,25 @@ static int run_step(const demo_step_t *step, const char *dir, int index, int tot
     return rc;
 }
 
+/* mkdir -p: creates every missing folder of `path`. */
+static int make_dirs(const char *path)
+{
+    char partial[512];
+    snprintf(partial, sizeof partial, "%s", path);
+    for (char *p = partial + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(partial, 0755) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    return mkdir(partial, 0755) != 0 && errno != EEXIST ? -1 : 0;
+}
+
 static int cmd_demo(int argc, char **argv)
 {
-    const char *dir = "demo-out";
+    const char *dir = "build/demo";
     static const struct option longopts[] = {
         {"out-dir", required_argument, NULL, 'o'},
         {"help", no_argument, NULL, 'h'},
@@ -97,13 +113,13 @@ static int cmd_demo(int argc, char **argv)
                    "gaze-directed renders of a head phantom, the same frame on the emulated\n"
                    "Pixel-Planes 5 with its frame time and ring traffic, and a synthetic gaze\n"
                    "trace replayed through the machine. Pictures and reports go to DIR\n"
-                   "(default demo-out/).\n");
+                   "(default build/demo/).\n");
             return 0;
         default:
             return 2;
         }
     }
-    if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
+    if (make_dirs(dir) != 0) {
         fprintf(stderr, "pp5 demo: cannot create %s: %s\n", dir, strerror(errno));
         return 1;
     }
