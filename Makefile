@@ -61,6 +61,16 @@ PKG_CFLAGS += -DPP5_HAVE_LIBUSB=1 $(shell pkg-config --cflags libusb-1.0)
 PKG_LIBS   += $(shell pkg-config --libs libusb-1.0)
 endif
 
+# umockdev (tests only): the device integration tests in tests/test_track_umockdev.c
+# emulate USB and hidraw devices with the libumockdev testbed API.  Its GLib
+# headers are included as system headers so that our warning flags do not
+# apply to them.
+HAVE_UMOCKDEV := $(shell pkg-config --exists umockdev-1.0 2>/dev/null && echo 1)
+ifeq ($(HAVE_UMOCKDEV),1)
+TEST_CFLAGS := -DPP5_HAVE_UMOCKDEV=1 $(patsubst -I%,-isystem %,$(shell pkg-config --cflags umockdev-1.0))
+TEST_LIBS   := $(shell pkg-config --libs umockdev-1.0)
+endif
+
 PP5_VERSION := $(shell git describe --always --dirty 2>/dev/null || echo unknown)
 
 CFLAGS_ALL := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -pthread $(OPT) $(WARN) \
@@ -94,6 +104,8 @@ all: $(PP5_BIN)
 $(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ)
 	$(CC) $(OPT) -o $@ $^ $(LDLIBS_ALL)
 
+$(BUILD)/tests/%.o: CFLAGS_ALL += $(TEST_CFLAGS)
+$(TEST_BIN): LDLIBS_ALL += $(TEST_LIBS)
 $(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ)
 	$(CC) $(OPT) -o $@ $^ $(LDLIBS_ALL)
 

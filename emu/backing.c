@@ -6,7 +6,8 @@
 
 pp5_status_t backing_alloc(backing_t **out)
 {
-    backing_t *b = aligned_alloc(64, sizeof *b);
+    /* C11 aligned_alloc wants a size that is a multiple of the alignment. */
+    backing_t *b = aligned_alloc(64, (sizeof *b + 63) & ~(size_t)63);
     if (!b)
         return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte backing store", sizeof *b);
     backing_clear(b);

@@ -20,7 +20,7 @@
 #include "fw_api.h"
 #include "gp_cost.h"
 #include "pp5_time.h"
-#include "sched.h"
+#include "pp5_sched.h"
 
 typedef pp5_status_t (*gp_send_fn)(void *ctx, gp_t *gp, const ring_msg_t *msg, pp5_tick_t t);
 /* Observer of busy spans (timeline): [start, end) running callback `what`. */

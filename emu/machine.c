@@ -180,6 +180,13 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
     if (st != PP5_OK) {
         return st;
     }
+    if (p->fb_rx_ports > 0) {
+        st = ring_set_rx_ports(&m->ring, m->n_gp + m->n_rn + 1, p->fb_rx_ports);   /* FB position */
+        if (st != PP5_OK) {
+            ring_free(&m->ring);
+            return st;
+        }
+    }
     host_init(&m->host, machine_unit_send, m);
     m->gp = calloc(m->n_gp, sizeof *m->gp);
     m->rn = calloc(m->n_rn, sizeof *m->rn);
@@ -198,6 +205,12 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
         }
     }
     st = fb_init(&m->fb, p->fb_width, p->fb_height, p->fb_double_buffered != 0);
+    if (st == PP5_OK && p->sim_host_threads > 1 && m->n_rn > 1) {
+        /* The scheduler thread also runs functional steps when it has to
+         * wait, so host_threads - 1 workers. */
+        st = rpool_start(&m->pool, m->rn, m->n_rn, p->sim_host_threads - 1);
+        m->pool_running = st == PP5_OK;
+    }
     if (st != PP5_OK) {
         machine_free(m);
         return st;
@@ -207,6 +220,10 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
 
 void machine_free(machine_t *m)
 {
+    if (m->pool_running) {
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     if (m->gp) {
         for (unsigned i = 0; i < m->n_gp; i++) {
             gp_free(&m->gp[i]);
@@ -297,6 +314,10 @@ pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
     pp5_tick_t start = m->sched.now;
     pp5_tick_t budget_end = start + (pp5_tick_t)(m->params.sim_budget_s * 1e12);
     pp5_status_t st = sched_run_budget(&m->sched, budget_end, stop);
+    if (st != PP5_OK && m->pool_running) {
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     pp5_tick_t end = machine_last_activity(m);
     m->setup_ps += end - start;
     for (unsigned i = 0; i < m->n_gp; i++) {
@@ -317,20 +338,22 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     pp5_tick_t budget_end = start + (pp5_tick_t)budget_ps;
     pp5_tick_t busy0[MACHINE_MAX_CHANNELS];
     uint64_t bytes0[RING_CLASS_COUNT];
+    pp5_tick_t cbusy0[RING_CLASS_COUNT];
+    memcpy(cbusy0, m->ring.busy_by_class, sizeof cbusy0);
     for (unsigned c = 0; c < m->ring.n_channels; c++) {
         busy0[c] = m->ring.ch[c].busy_ticks;
     }
     memcpy(bytes0, m->ring.bytes_sent, sizeof bytes0);
     pp5_status_t st = host_start_frame(&m->host, m->n_gp, m->n_frames, start);
     if (st != PP5_OK) {
-        *stop = SCHED_ERROR;
+        *stop = SCHED_STOP_ERROR;
         return st;
     }
     st = sched_run_budget(&m->sched, budget_end, stop);
     /* Last activity of any unit (events end at deliveries; GPs and renderers
      * may stay busy after their last event). */
     pp5_tick_t end = machine_last_activity(m);
-    if (*stop == SCHED_BUDGET_EXCEEDED) {
+    if (*stop == SCHED_STOP_BUDGET_EXCEEDED) {
         end = budget_end;
     }
     if (m->n_frames < MACHINE_MAX_FRAMES) {
@@ -344,9 +367,16 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
         }
         for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
             f->bytes_by_class[k] = m->ring.bytes_sent[k] - bytes0[k];
+            f->busy_by_class[k] = m->ring.busy_by_class[k] - cbusy0[k];
         }
     }
     m->sched.now = end > m->sched.now ? end : m->sched.now;
     fb_end_frame(&m->fb);
+    if (st != PP5_OK && m->pool_running) {
+        /* Workers may still be running commands of the aborted frame: stop
+         * them before anyone reads renderer statistics. */
+        rpool_stop(&m->pool);
+        m->pool_running = false;
+    }
     return st;
 }

@@ -12,8 +12,10 @@
  * emulated-time budget sim.budget_s is exceeded (BUDGET_EXCEEDED, naming the
  * busy units) or a unit reports a firmware error (FIRMWARE_ERROR).  The frame
  * time is from the frame's start to the last activity of any unit (last ring
- * delivery, last GP or renderer busy instant).  Single-threaded: results do
- * not depend on the host (no threads, clocks or randomness in emu/). */
+ * delivery, last GP or renderer busy instant).  The scheduler runs on one
+ * thread; with sim.host_threads > 1, worker threads run the renderers'
+ * functional steps (renderer_node.h), which cannot change any result.  No
+ * host clocks or randomness in emu/. */
 #ifndef PP5_MACHINE_H
 #define PP5_MACHINE_H
 
@@ -26,7 +28,7 @@
 #include "params.h"
 #include "renderer_node.h"
 #include "ring.h"
-#include "sched.h"
+#include "pp5_sched.h"
 #include "timeline.h"
 
 #define MACHINE_MAX_FRAMES 64
@@ -40,6 +42,7 @@ typedef struct {
     sched_stop_t stop;
     pp5_tick_t ch_busy_ps[MACHINE_MAX_CHANNELS];
     uint64_t bytes_by_class[RING_CLASS_COUNT];
+    pp5_tick_t busy_by_class[RING_CLASS_COUNT];
 } machine_frame_t;
 
 typedef struct {
@@ -53,6 +56,8 @@ typedef struct {
     fb_t fb;
     unsigned n_gp, n_rn;
     timeline_t *tl;                   /* NULL unless machine_enable_timeline */
+    rpool_t pool;                     /* workers when sim.host_threads > 1 */
+    bool pool_running;
     uint32_t tid_host, tid_gp0, tid_rn0, tid_ch0, tid_fb;
     machine_frame_t frames[MACHINE_MAX_FRAMES];
     unsigned n_frames;

@@ -4,26 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Four words per vector (GCC/Clang vector extension: AVX2 when the target has
- * it, otherwise pairs of SSE2 or scalar operations; the result is identical). */
-typedef uint64_t v4_t __attribute__((vector_size(32)));
-#if defined(__GNUC__) && !defined(__clang__)
-/* GCC 12 reports the fully unrolled, fully initialised carry arrays of the
- * AVX2 clones as "may be used uninitialized" (a false positive). */
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-/* The same vector as a memory access: any alignment of 8, may alias uint64_t. */
-typedef uint64_t v4_mem_t __attribute__((vector_size(32), aligned(8), may_alias));
-#define VW 4u                     /* words per vector */
-#define BLK 4u                    /* vectors per block: 16 words = 1024 PPs */
-#define BW (VW * BLK)             /* words per block */
+#include "pp_simd.h"
 
-/* Macros rather than functions: no vector crosses a call (no -Wpsabi ABI notes). */
-#define ld(p) ((v4_t)*(const v4_mem_t *)(const void *)(p))
-#define st(p, v) (*(v4_mem_t *)(void *)(p) = (v))
-#define splat(x) ((v4_t){(x), (x), (x), (x)})
-/* Masked write: where e, new; elsewhere old. */
-#define merge(e, new_v, old) (((new_v) & (e)) | ((old) & ~(e)))
+/* Kernels work on blocks of 16 words (1024 PPs) so that carries, enables and
+ * flags of a block stay in registers across all bit steps of an instruction. */
+#define PP_BLOCK_WORDS 16u
 
 /* Bit i of an n-bit immediate, as an all-ones or all-zero word. */
 static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
@@ -33,10 +18,13 @@ static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
 
 pp5_status_t pp_array_alloc(pp_array_t **out)
 {
-    pp_array_t *a = aligned_alloc(64, sizeof *a);
+    /* C11 aligned_alloc wants a size that is a multiple of the alignment. */
+    pp_array_t *a = aligned_alloc(64, (sizeof *a + 63) & ~(size_t)63);
     if (!a)
         return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte PP array", sizeof *a);
+    a->use_avx2 = false;
     pp_array_clear(a);
+    pp_array_set_avx2(a, true);
     *out = a;
     return PP5_OK;
 }
@@ -48,41 +36,31 @@ void pp_array_free(pp_array_t *a)
 
 void pp_array_clear(pp_array_t *a)
 {
+    bool avx2 = a->use_avx2;
     memset(a, 0, sizeof *a);
     memset(a->en, 0xff, sizeof a->en);
+    a->use_avx2 = avx2;
 }
 
-/* Kernels below are written once as always-inline functions whose op/mode and
- * "block fully enabled" arguments are compile-time constants at each call, so
- * every combination is compiled branch-free; the dispatchers are cloned for
- * AVX2 where the compiler and CPU support it (same results, chosen at load). */
-#define INLINE static inline __attribute__((always_inline))
-/* Fully unroll the per-vector loops so carries and enables stay in registers. */
-#if defined(__GNUC__) && !defined(__clang__)
-#define UNROLL _Pragma("GCC unroll 8")
+bool pp_array_set_avx2(pp_array_t *a, bool allow)
+{
+#if PP_HAVE_AVX2_COPY
+    a->use_avx2 = allow && __builtin_cpu_supports("avx2");
 #else
-#define UNROLL
+    (void)allow;
+    a->use_avx2 = false;
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define PP_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define PP_CLONES
-#endif
+    return a->use_avx2;
+}
 
 /* True when every PP of the block at word w is enabled: stores need no merge. */
 static bool block_full(const pp_array_t *A, unsigned w)
 {
     uint64_t all = ~(uint64_t)0;
-    for (unsigned v = 0; v < BW; v++)
+    for (unsigned v = 0; v < PP_BLOCK_WORDS; v++)
         all &= A->en[w + v];
     return all == ~(uint64_t)0;
 }
-
-/* Masked store of r to pd (whole-block enable known at compile time). */
-#define STORE(pd, ev, r, full) \
-    do { if (full) st((pd), (r)); else st((pd), merge((ev), (r), ld(pd))); } while (0)
-
-/* ---- n-bit logic, moves and shifts: d[i] = f(a[src(i)], b[i]) ---- */
 
 /* Source plane of step i for the shift/copy family (the zero plane past the field). */
 static const uint64_t *logic_src(const pp_array_t *A, const pp_insn_t *in, unsigned i)
@@ -96,224 +74,6 @@ static const uint64_t *logic_src(const pp_array_t *A, const pp_insn_t *in, unsig
     }
 }
 
-INLINE void logic_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsigned op,
-                        const bool full)
-{
-    const unsigned n = in->n;
-    v4_t e[BLK], f[BLK];
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++) {
-        e[v] = ld(A->en + w + v * VW);
-        f[v] = ld(A->flag + w + v * VW);
-    }
-    for (unsigned step = 0; step < n; step++) {
-        /* SHL runs MSB first so that an in-place shift reads unmodified bits. */
-        unsigned i = op == PP_OP_SHL ? n - 1 - step : step;
-        uint64_t *pd = A->mem[in->d + i] + w;
-        const uint64_t *pa = op == PP_OP_SETI ? A->zero : logic_src(A, in, i) + w;
-        const uint64_t *pb = (op == PP_OP_AND || op == PP_OP_OR || op == PP_OP_XOR ||
-                              op == PP_OP_SEL) ? A->mem[in->b + i] + w : A->zero;
-        const v4_t konst = splat(op == PP_OP_SETI ? imm_bit(in, i) : 0);
-        UNROLL
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t av = ld(pa + v * VW), bv = ld(pb + v * VW), r;
-            switch (op) {
-            case PP_OP_NOT: r = ~av; break;
-            case PP_OP_AND: r = av & bv; break;
-            case PP_OP_OR: r = av | bv; break;
-            case PP_OP_XOR: r = av ^ bv; break;
-            case PP_OP_SEL: r = (av & f[v]) | (bv & ~f[v]); break;
-            case PP_OP_SETI: r = konst; break;
-            default: r = av; break;   /* COPY, SHL, SHR, SAR */
-            }
-            STORE(pd + v * VW, e[v], r, full);
-        }
-    }
-}
-
-#define LOGIC_CASE(OP)                                                         \
-    case OP:                                                                   \
-        for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {                     \
-            if (block_full(A, w)) logic_block(A, in, w, OP, true);            \
-            else logic_block(A, in, w, OP, false);                             \
-        }                                                                      \
-        break;
-
-PP_CLONES static void exec_logic(pp_array_t *A, const pp_insn_t *in)
-{
-    switch (in->op) {
-    LOGIC_CASE(PP_OP_NOT)
-    LOGIC_CASE(PP_OP_AND)
-    LOGIC_CASE(PP_OP_OR)
-    LOGIC_CASE(PP_OP_XOR)
-    LOGIC_CASE(PP_OP_SEL)
-    LOGIC_CASE(PP_OP_SETI)
-    LOGIC_CASE(PP_OP_SHL)
-    default:
-    LOGIC_CASE(PP_OP_COPY)      /* COPY, SHR, SAR: d = a[src(i)] */
-    }
-}
-
-/* ---- add / subtract / add immediate: ripple carry, LSB first; F = carry or borrow ---- */
-
-INLINE void add_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const unsigned op,
-                      const bool full)
-{
-    const bool sub = op == PP_OP_SUB, addi = op == PP_OP_ADDI;
-    v4_t e[BLK], c[BLK];
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++) {
-        e[v] = ld(A->en + w + v * VW);
-        c[v] = splat(sub ? ~(uint64_t)0 : 0);     /* a - b = a + ~b + 1 */
-    }
-    for (unsigned i = 0; i < in->n; i++) {
-        const uint64_t *pa = A->mem[in->a + i] + w;
-        const uint64_t *pb = addi ? A->zero : A->mem[in->b + i] + w;
-        uint64_t *pd = A->mem[in->d + i] + w;
-        const v4_t kb = splat(addi ? imm_bit(in, i) : 0);
-        UNROLL
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t av = ld(pa + v * VW);
-            v4_t bv = addi ? kb : ld(pb + v * VW);
-            if (sub)
-                bv = ~bv;
-            v4_t x = av ^ bv;
-            v4_t s = x ^ c[v];
-            c[v] = (av & bv) | (c[v] & x);
-            STORE(pd + v * VW, e[v], s, full);
-        }
-    }
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++) {
-        v4_t out = sub ? ~c[v] : c[v];
-        st(A->flag + w + v * VW, merge(e[v], out, ld(A->flag + w + v * VW)));
-    }
-}
-
-#define ADD_CASE(OP)                                                           \
-    case OP:                                                                   \
-        for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {                     \
-            if (block_full(A, w)) add_block(A, in, w, OP, true);              \
-            else add_block(A, in, w, OP, false);                               \
-        }                                                                      \
-        break;
-
-PP_CLONES static void exec_add(pp_array_t *A, const pp_insn_t *in)
-{
-    switch (in->op) {
-    ADD_CASE(PP_OP_SUB)
-    ADD_CASE(PP_OP_ADDI)
-    default:
-    ADD_CASE(PP_OP_ADD)
-    }
-}
-
-/* ---- compare into F: equality by an xor chain, order by a serial subtract ---- */
-
-INLINE void cmp_block(pp_array_t *A, const pp_insn_t *in, unsigned w, const bool imm)
-{
-    const unsigned n = in->n, cond = in->x;
-    const bool is_signed = cond == PP_COND_LTS || cond == PP_COND_GES;
-    v4_t e[BLK], c[BLK], diff[BLK];
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++) {
-        e[v] = ld(A->en + w + v * VW);
-        c[v] = splat(~(uint64_t)0);
-        diff[v] = splat(0);
-    }
-    for (unsigned i = 0; i < n; i++) {
-        const uint64_t *pa = A->mem[in->a + i] + w;
-        const uint64_t *pb = imm ? A->zero : A->mem[in->b + i] + w;
-        const v4_t kb = splat(imm ? imm_bit(in, i) : 0);
-        /* Signed order = unsigned order with both sign bits inverted. */
-        const v4_t flip = splat(is_signed && i == n - 1 ? ~(uint64_t)0 : 0);
-        UNROLL
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t av = ld(pa + v * VW) ^ flip;
-            v4_t bv = (imm ? kb : ld(pb + v * VW)) ^ flip;
-            v4_t nb = ~bv;
-            diff[v] |= av ^ bv;
-            c[v] = (av & nb) | (c[v] & (av ^ nb));
-        }
-    }
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++) {
-        v4_t r;
-        switch (cond) {
-        case PP_COND_EQ: r = ~diff[v]; break;
-        case PP_COND_NE: r = diff[v]; break;
-        case PP_COND_LTU: case PP_COND_LTS: r = ~c[v]; break;   /* borrow */
-        default: r = c[v]; break;                                /* GEU, GES */
-        }
-        st(A->flag + w + v * VW, merge(e[v], r, ld(A->flag + w + v * VW)));
-    }
-}
-
-PP_CLONES static void exec_cmp(pp_array_t *A, const pp_insn_t *in)
-{
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
-        if (in->op == PP_OP_CMPI)
-            cmp_block(A, in, w, true);
-        else
-            cmp_block(A, in, w, false);
-    }
-}
-
-/* ---- Enable and flag: one word operation per word, one loop per opcode ---- */
-
-#define EACH_WORD for (unsigned w = 0; w < PP_PLANE_WORDS; w += VW)
-
-PP_CLONES static void exec_enable(pp_array_t *A, unsigned op)
-{
-    uint64_t *E = A->en;
-    const uint64_t *F = A->flag;
-    switch (op) {
-    case PP_OP_EN_ALL: EACH_WORD st(E + w, splat(~(uint64_t)0)); break;
-    case PP_OP_EN_FLAG: EACH_WORD st(E + w, ld(F + w)); break;
-    case PP_OP_EN_AND: EACH_WORD st(E + w, ld(E + w) & ld(F + w)); break;
-    case PP_OP_EN_ANDN: EACH_WORD st(E + w, ld(E + w) & ~ld(F + w)); break;
-    case PP_OP_EN_OR: EACH_WORD st(E + w, ld(E + w) | ld(F + w)); break;
-    default: EACH_WORD st(E + w, ~ld(E + w)); break;     /* EN_NOT */
-    }
-}
-
-/* dst = src where E, unchanged elsewhere (dst and src are whole planes). */
-INLINE void masked_copy(uint64_t *dst, const uint64_t *src, const uint64_t *E)
-{
-    EACH_WORD st(dst + w, merge(ld(E + w), ld(src + w), ld(dst + w)));
-}
-
-PP_CLONES static void exec_flag(pp_array_t *A, const pp_insn_t *in)
-{
-    const uint64_t *E = A->en;
-    uint64_t *F = A->flag;
-    switch (in->op) {
-    case PP_OP_F_SET: {
-        const v4_t x = splat(in->x ? ~(uint64_t)0 : 0);
-        EACH_WORD st(F + w, merge(ld(E + w), x, ld(F + w)));
-        break;
-    }
-    case PP_OP_F_NOT: EACH_WORD st(F + w, ld(F + w) ^ ld(E + w)); break;
-    case PP_OP_F_LD: masked_copy(F, A->mem[in->a], E); break;
-    default: masked_copy(A->mem[in->d], F, E); break;    /* F_ST */
-    }
-}
-
-/* ---- backing store: 32 masked plane copies ---- */
-
-PP_CLONES static void exec_bs(pp_array_t *A, backing_t *bs, const pp_insn_t *in)
-{
-    for (unsigned k = 0; k < PP_BS_BLOCK_BITS; k++) {
-        uint64_t *bp = backing_plane(bs, in->x, k);
-        if (in->op == PP_OP_BSLOAD)
-            masked_copy(A->mem[in->d + k], bp, A->en);
-        else
-            masked_copy(bp, A->mem[in->a + k], A->en);
-    }
-}
-
-/* ---- shift-add multiply (d disjoint from the sources: checked by the decoder) ---- */
-
 /* Plane of bit i of ext(src(m)) (the zero plane past an unsigned field). */
 static const uint64_t *ext_plane(const pp_array_t *A, unsigned src, unsigned m, bool sgn,
                                  unsigned i)
@@ -323,96 +83,45 @@ static const uint64_t *ext_plane(const pp_array_t *A, unsigned src, unsigned m, 
     return sgn ? A->mem[src + m - 1] : A->zero;
 }
 
-/* Where mask: d[j..n) += ext(a) << j. */
-INLINE void mul_add_pass(pp_array_t *A, const pp_insn_t *in, unsigned w, const v4_t *mask,
-                         unsigned j)
-{
-    const bool sgn = in->mod & 1u;
-    v4_t c[BLK];
-    UNROLL
-    for (unsigned v = 0; v < BLK; v++)
-        c[v] = splat(0);
-    for (unsigned i = j; i < in->n; i++) {
-        const uint64_t *pa = ext_plane(A, in->a, in->m, sgn, i - j);
-        uint64_t *pd = A->mem[in->d + i] + w;
-        UNROLL
-        for (unsigned v = 0; v < BLK; v++) {
-            v4_t av = ld(pa + w + v * VW);
-            v4_t dv = ld(pd + v * VW);
-            v4_t x = av ^ dv;
-            v4_t s = x ^ c[v];
-            c[v] = (av & dv) | (c[v] & x);
-            st(pd + v * VW, merge(mask[v], s, dv));
-        }
-    }
-}
-
-PP_CLONES static void exec_mul(pp_array_t *A, const pp_insn_t *in)
-{
-    const unsigned n = in->n;
-    const bool sgn = in->mod & 1u;
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w += BW) {
-        v4_t e[BLK], mask[BLK];
-        UNROLL
-        for (unsigned v = 0; v < BLK; v++)
-            e[v] = ld(A->en + w + v * VW);
-        for (unsigned i = 0; i < n; i++) {          /* clear d */
-            uint64_t *pd = A->mem[in->d + i] + w;
-            UNROLL
-            for (unsigned v = 0; v < BLK; v++)
-                st(pd + v * VW, merge(e[v], splat(0), ld(pd + v * VW)));
-        }
-        for (unsigned j = 0; j < n; j++) {
-            bool any = false;
-            if (in->op == PP_OP_MULI) {
-                uint32_t imm = in->imm[0];
-                unsigned bit = j < 32 ? (imm >> j) & 1u : imm >> 31;
-                UNROLL
-                for (unsigned v = 0; v < BLK; v++)
-                    mask[v] = bit ? e[v] : splat(0);
-                any = bit;
-            } else {
-                if (!sgn && j >= in->m)
-                    break;                  /* unsigned: no more multiplier bits */
-                const uint64_t *pb = ext_plane(A, in->b, in->m, sgn, j);
-                UNROLL
-                for (unsigned v = 0; v < BLK; v++)
-                    mask[v] = e[v] & ld(pb + w + v * VW);
-                any = true;
-            }
-            if (any)
-                mul_add_pass(A, in, w, mask, j);
-        }
-    }
-}
-
-/* ---- QEE: rows of Q planes from qee.c, written into d under E ---- */
-
 typedef struct {
     pp_array_t *A;
     unsigned d, n, shift;
 } qee_ctx_t;
 
-static void qee_store_row(void *vctx, unsigned row, const uint64_t *planes)
-{
-    qee_ctx_t *q = vctx;
-    pp_array_t *A = q->A;
-    for (unsigned i = 0; i < q->n; i++) {
-        for (unsigned h = 0; h < 2; h++) {
-            unsigned w = 2 * row + h;
-            uint64_t e = A->en[w];
-            uint64_t *pd = &A->mem[q->d + i][w];
-            *pd = (planes[2 * (q->shift + i) + h] & e) | (*pd & ~e);
-        }
-    }
-}
+#if PP_HAVE_AVX2_COPY
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define KN(name) name##_avx2
+#define VEC_BYTES 32
+#include "pp_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+#pragma GCC pop_options
+#endif
+
+#define KN(name) name##_base
+#define VEC_BYTES 16
+#include "pp_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+
+/* Calls the AVX2 copy of a kernel when this array may use it, else the base copy. */
+#if PP_HAVE_AVX2_COPY
+#define KCALL(A, fn, ...) ((A)->use_avx2 ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
+#else
+#define KCALL(A, fn, ...) fn##_base(__VA_ARGS__)
+#endif
 
 static void exec_qee(pp_array_t *A, const pp_insn_t *in, int x0, int y0)
 {
     qee_coeffs_t c = {(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
                       (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
     qee_ctx_t ctx = {A, in->d, in->n, in->x};
-    qee_row_planes(&c, x0, y0, in->x + in->n, A->qee_scratch, qee_store_row, &ctx);
+    qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, 
+#if PP_HAVE_AVX2_COPY
+                   A->use_avx2 ? qee_store_step_avx2 :
+#endif
+                   qee_store_step_base, &ctx, A->use_avx2);
 }
 
 void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
@@ -420,30 +129,30 @@ void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, in
     switch (in->op) {
     case PP_OP_EN_ALL: case PP_OP_EN_FLAG: case PP_OP_EN_AND: case PP_OP_EN_ANDN:
     case PP_OP_EN_OR: case PP_OP_EN_NOT:
-        exec_enable(A, in->op);
+        KCALL(A, exec_enable, A, in->op);
         break;
     case PP_OP_F_SET: case PP_OP_F_NOT: case PP_OP_F_LD: case PP_OP_F_ST:
-        exec_flag(A, in);
+        KCALL(A, exec_flag, A, in);
         break;
     case PP_OP_ADD: case PP_OP_SUB: case PP_OP_ADDI:
-        exec_add(A, in);
+        KCALL(A, exec_add, A, in);
         break;
     case PP_OP_CMP: case PP_OP_CMPI:
-        exec_cmp(A, in);
+        KCALL(A, exec_cmp, A, in);
         break;
     case PP_OP_MUL: case PP_OP_MULI:
-        exec_mul(A, in);
+        KCALL(A, exec_mul, A, in);
         break;
     case PP_OP_QEE:
         exec_qee(A, in, x0, y0);
         break;
     case PP_OP_BSLOAD: case PP_OP_BSSTORE:
-        exec_bs(A, bs, in);
+        KCALL(A, exec_bs, A, bs, in);
         break;
     case PP_OP_BSWAIT:
         break;                       /* timing only (renderer.c) */
     default:
-        exec_logic(A, in);
+        KCALL(A, exec_logic, A, in);
         break;
     }
 }

@@ -11,6 +11,7 @@
 #ifndef PP5_PP_ARRAY_H
 #define PP5_PP_ARRAY_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include "backing.h"
 #include "pp_isa.h"
@@ -27,13 +28,17 @@ typedef struct pp_array {
     uint64_t en[PP_PLANE_WORDS];
     uint64_t flag[PP_PLANE_WORDS];
     uint64_t zero[PP_PLANE_WORDS];     /* always zero: the source of constant-0 bits */
-    uint64_t qee_scratch[4 * PP_QEE_MAX_BITS];
+    uint64_t qee_scratch[QEE_SCRATCH_WORDS(PP_QEE_MAX_BITS)];
+    bool use_avx2;                     /* host-speed choice only: results are identical */
 } pp_array_t;
 
 pp5_status_t pp_array_alloc(pp_array_t **out);
 void pp_array_free(pp_array_t *a);
 /* Memory and F zero, E = 1 everywhere. */
 void pp_array_clear(pp_array_t *a);
+/* Allow (default: when the host has it) or forbid the AVX2 kernels; returns
+ * whether they are now used.  Tests run both kernel copies this way. */
+bool pp_array_set_avx2(pp_array_t *a, bool allow);
 
 /* Executes one validated instruction; (x0, y0) is the region origin for the QEE
  * (checked by the caller with qee_origin_ok). */

@@ -132,17 +132,61 @@ static void emit_dab(pp_stream_t *s, const char *name, unsigned op, unsigned d, 
     emit(s, name, op, n, d, x, true, a, b, 0, 0, NULL, 0);
 }
 
-void pp_emit_copy(pp_stream_t *s, unsigned d, unsigned a, unsigned n) { emit_dab(s, "COPY", PP_OP_COPY, d, a, 0, n, 0); }
-void pp_emit_not(pp_stream_t *s, unsigned d, unsigned a, unsigned n) { emit_dab(s, "NOT", PP_OP_NOT, d, a, 0, n, 0); }
-void pp_emit_and(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "AND", PP_OP_AND, d, a, b, n, 0); }
-void pp_emit_or(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "OR", PP_OP_OR, d, a, b, n, 0); }
-void pp_emit_xor(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "XOR", PP_OP_XOR, d, a, b, n, 0); }
-void pp_emit_sel(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "SEL", PP_OP_SEL, d, a, b, n, 0); }
-void pp_emit_shl(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k) { emit_dab(s, "SHL", PP_OP_SHL, d, a, 0, n, k); }
-void pp_emit_shr(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k) { emit_dab(s, "SHR", PP_OP_SHR, d, a, 0, n, k); }
-void pp_emit_sar(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k) { emit_dab(s, "SAR", PP_OP_SAR, d, a, 0, n, k); }
-void pp_emit_add(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "ADD", PP_OP_ADD, d, a, b, n, 0); }
-void pp_emit_sub(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n) { emit_dab(s, "SUB", PP_OP_SUB, d, a, b, n, 0); }
+void pp_emit_copy(pp_stream_t *s, unsigned d, unsigned a, unsigned n)
+{
+    emit_dab(s, "COPY", PP_OP_COPY, d, a, 0, n, 0);
+}
+
+void pp_emit_not(pp_stream_t *s, unsigned d, unsigned a, unsigned n)
+{
+    emit_dab(s, "NOT", PP_OP_NOT, d, a, 0, n, 0);
+}
+
+void pp_emit_and(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "AND", PP_OP_AND, d, a, b, n, 0);
+}
+
+void pp_emit_or(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "OR", PP_OP_OR, d, a, b, n, 0);
+}
+
+void pp_emit_xor(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "XOR", PP_OP_XOR, d, a, b, n, 0);
+}
+
+void pp_emit_sel(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "SEL", PP_OP_SEL, d, a, b, n, 0);
+}
+
+void pp_emit_shl(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k)
+{
+    emit_dab(s, "SHL", PP_OP_SHL, d, a, 0, n, k);
+}
+
+void pp_emit_shr(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k)
+{
+    emit_dab(s, "SHR", PP_OP_SHR, d, a, 0, n, k);
+}
+
+void pp_emit_sar(pp_stream_t *s, unsigned d, unsigned a, unsigned n, unsigned k)
+{
+    emit_dab(s, "SAR", PP_OP_SAR, d, a, 0, n, k);
+}
+
+void pp_emit_add(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "ADD", PP_OP_ADD, d, a, b, n, 0);
+}
+
+void pp_emit_sub(pp_stream_t *s, unsigned d, unsigned a, unsigned b, unsigned n)
+{
+    emit_dab(s, "SUB", PP_OP_SUB, d, a, b, n, 0);
+}
+
 
 void pp_emit_cmp(pp_stream_t *s, unsigned cond, unsigned a, unsigned b, unsigned n)
 {

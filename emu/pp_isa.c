@@ -102,6 +102,8 @@ pp5_status_t pp_isa_decode(const uint32_t *words, size_t n_words, size_t *pos,
                            unsigned mem_bits, pp_insn_t *out)
 {
     size_t at = *pos;
+    if (mem_bits > PP_MEM_BITS)          /* the storage is PP_MEM_BITS planes */
+        mem_bits = PP_MEM_BITS;
     if (at >= n_words)
         return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: read past the end", at);
     uint32_t w0 = words[at];
@@ -114,6 +116,15 @@ pp5_status_t pp_isa_decode(const uint32_t *words, size_t n_words, size_t *pos,
     if (!op)
         return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: illegal opcode 0x%02x (word 0x%08x)",
                         at, out->op, (unsigned)w0);
+    /* n first: it sizes the immediate (and the imm[] copy below). */
+    if (uses_width(op, WN)) {
+        if (out->n < 1 || out->n > mem_bits)
+            return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s width n = %u outside 1..%u",
+                            at, op->name, out->n, mem_bits);
+    } else if (out->n != 0) {
+        return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s does not use n, which must be 0 "
+                        "(is %u)", at, op->name, out->n);
+    }
     size_t need = op->format == PP_FMT_2W ? 2 : 1;
     size_t n_imm = 0;
     switch (op->imm) {
@@ -136,15 +147,7 @@ pp5_status_t pp_isa_decode(const uint32_t *words, size_t n_words, size_t *pos,
         out->imm[i] = words[at + need + i];
     out->n_words = (uint32_t)(need + n_imm);
 
-    /* n and m: in range where used, zero where not. */
-    if (uses_width(op, WN)) {
-        if (out->n < 1 || out->n > mem_bits)
-            return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s width n = %u outside 1..%u",
-                            at, op->name, out->n, mem_bits);
-    } else if (out->n != 0) {
-        return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s does not use n, which must be 0 "
-                        "(is %u)", at, op->name, out->n);
-    }
+    /* m: in range where used, zero where not. */
     if (uses_width(op, WM)) {
         if (out->m < 1 || out->m > mem_bits)
             return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s source width m = %u outside "

@@ -73,6 +73,8 @@ typedef struct {
     uint32_t n_words;          /* words this instruction occupied in the stream */
 } pp_insn_t;
 
+_Static_assert((PP_MEM_BITS + 31) / 32 <= 7, "pp_insn_t.imm must hold an n-bit immediate");
+
 /* Static description of an opcode (from pp_isa.def). */
 typedef struct {
     const char *name;

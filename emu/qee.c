@@ -1,11 +1,12 @@
 /* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
 #include "qee.h"
 
-#include <stdlib.h>
+#include "pp_simd.h"
 
 bool qee_origin_ok(int x0, int y0)
 {
-    return abs(x0) <= QEE_COORD_MAX - 127 && abs(y0) <= QEE_COORD_MAX - 127;
+    const int lim = QEE_COORD_MAX - 127;    /* no abs(): abs(INT_MIN) overflows */
+    return x0 >= -lim && x0 <= lim && y0 >= -lim && y0 <= lim;
 }
 
 /* Each term is below 2^31 * 2^26 = 2^57 in magnitude and there are six, so the
@@ -47,29 +48,6 @@ unsigned qee_serial_next_bit(qee_serial_t *s)
     return sum & 1u;
 }
 
-/* The two words of a 128-PP row as one vector (SSE2 on x86-64, pairs elsewhere). */
-typedef uint64_t v2_t __attribute__((vector_size(16), aligned(8), may_alias));
-#define LD2(p) (*(const v2_t *)(const void *)(p))
-#define ST2(p, v) (*(v2_t *)(void *)(p) = (v))
-
-/* Per row: acc += addend (bit-sliced, `bits` planes of 2 words), then
- * acc += constant v (sign-extended) in every lane.  One pass, two carries. */
-static void row_step(uint64_t *acc, const uint64_t *addend, int64_t v, unsigned bits)
-{
-    v2_t c1 = {0, 0}, c2 = {0, 0};
-    for (unsigned k = 0; k < bits; k++) {
-        v2_t a = LD2(acc + 2 * k), b = LD2(addend + 2 * k);
-        v2_t x = a ^ b;
-        v2_t s = x ^ c1;
-        c1 = (a & b) | (c1 & x);
-        uint64_t kb = bit_of(v, k) ? ~(uint64_t)0 : 0;
-        v2_t K = {kb, kb};
-        v2_t y = s ^ K;
-        ST2(acc + 2 * k, y ^ c2);
-        c2 = (s & K) | (c2 & y);
-    }
-}
-
 /* In-place transpose of a 64x64 bit matrix (bit c of word r <-> bit r of word c)
  * by swapping ever smaller blocks: 6 stages x 32 word pairs. */
 static void transpose64(uint64_t a[64])
@@ -98,25 +76,110 @@ static void lanes_to_planes(const int64_t *v, unsigned bits, uint64_t *planes)
     }
 }
 
-/* Row recurrence: Q(x, y+1) - Q(x, y) = B x + C (2y + 1) + E, i.e. a per-column
- * part P(x) = B x plus a per-row constant; both are exact integers, so adding
- * them mod 2^bits keeps the low `bits` bits of Q exact. */
-void qee_row_planes(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_row_fn emit, void *ctx)
+/* T = the row planes `src` (2 words per plane) shifted up by `shl` planes
+ * (times 2^shl), in the lanes of chain c if bit c of `chains` is set, else 0. */
+static void lanes_spread(uint64_t *T, const uint64_t *src, unsigned shl, unsigned chains,
+                         unsigned bits)
 {
-    uint64_t *row = scratch;               /* 2 * bits */
-    uint64_t *colpart = scratch + 2 * bits; /* 2 * bits */
+    uint64_t m[QEE_CHAINS];
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        m[c] = (chains >> c) & 1u ? ~(uint64_t)0 : 0;
+    for (unsigned k = 0; k < bits; k++) {
+        uint64_t s0 = k >= shl ? src[2 * (k - shl)] : 0, s1 = k >= shl ? src[2 * (k - shl) + 1] : 0;
+        for (unsigned c = 0; c < QEE_CHAINS; c++) {
+            T[QEE_LANES * k + 2 * c] = s0 & m[c];
+            T[QEE_LANES * k + 2 * c + 1] = s1 & m[c];
+        }
+    }
+}
+
+/* Chains whose index has bit b set (they add (B x) 2^b when starting at row c). */
+static unsigned chains_with_bit(unsigned b)
+{
+    unsigned m = 0;
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        m |= ((c >> b) & 1u) << c;
+    return m;
+}
+
+/* T = per-chain constants K[c] (sign-extended) in the lanes of chain c. */
+static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
+{
+    for (unsigned k = 0; k < bits; k++)
+        for (unsigned c = 0; c < QEE_CHAINS; c++) {
+            uint64_t m = bit_of(K[c], k) ? ~(uint64_t)0 : 0;
+            T[QEE_LANES * k + 2 * c] = m;
+            T[QEE_LANES * k + 2 * c + 1] = m;
+        }
+}
+
+#if PP_HAVE_AVX2_COPY
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define KN(name) name##_avx2
+#define VEC_BYTES 32
+#include "qee_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+#pragma GCC pop_options
+#endif
+
+#define KN(name) name##_base
+#define VEC_BYTES 16
+#include "qee_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+
+#if PP_HAVE_AVX2_COPY
+#define KCALL(avx2, fn, ...) ((avx2) ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
+#else
+#define KCALL(avx2, fn, ...) ((void)(avx2), fn##_base(__VA_ARGS__))
+#endif
+
+/* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
+ * of all chains yields rows 8t..8t+7, i.e. 16 consecutive plane words.  Going
+ * down 8 rows adds D = Q(x, y+8) - Q(x, y) = 8Bx + C(16y + 64) + 8E, and D
+ * grows by 128C per step.  Everything is exact integer arithmetic done mod
+ * 2^bits, so the low `bits` bits of Q are exact. */
+void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
+                    qee_step_fn emit, void *ctx, bool use_avx2)
+{
+    uint64_t *acc = scratch;                       /* bits x 16 */
+    uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
+    uint64_t *T = D + QEE_LANES * bits;            /* bits x 16: addends */
+    uint64_t *row0 = T + QEE_LANES * bits;         /* bits x 2: Q of row y0 */
+    uint64_t *col = row0 + 2 * bits;               /* bits x 2: B x */
     int64_t v[128];
     for (unsigned i = 0; i < 128; i++)
         v[i] = qee_value(q, x0 + (int)i, y0);
-    lanes_to_planes(v, bits, row);
+    lanes_to_planes(v, bits, row0);
     for (unsigned i = 0; i < 128; i++)
         v[i] = (int64_t)q->B * (x0 + (int)i);
-    lanes_to_planes(v, bits, colpart);
-    emit(ctx, 0, row);
-    for (unsigned j = 1; j < 128; j++) {
-        int64_t y = (int64_t)y0 + j - 1;
-        row_step(row, colpart, (int64_t)q->C * (2 * y + 1) + q->E, bits);
-        emit(ctx, j, row);
+    lanes_to_planes(v, bits, col);
+    /* Chain c starts at row y0 + c: Q(x, y0 + c) = Q(x, y0) + c B x + C(2 y0 c + c^2) + E c,
+     * with c B x = sum over the bits b of c of (B x) 2^b. */
+    lanes_spread(acc, row0, 0, ~0u, bits);
+    for (unsigned b = 0; (1u << b) < QEE_CHAINS; b++) {
+        uint64_t lane_mask[QEE_LANES];
+        for (unsigned j = 0; j < QEE_LANES; j++)
+            lane_mask[j] = (chains_with_bit(b) >> (j / 2)) & 1u ? ~(uint64_t)0 : 0;
+        KCALL(use_avx2, lanes_add_row, acc, col, b, lane_mask, bits);
+    }
+    int64_t K[QEE_CHAINS];
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        K[c] = (int64_t)q->C * (2 * (int64_t)y0 * c + (int64_t)c * c) + (int64_t)q->E * c;
+    lanes_consts(T, K, bits);
+    KCALL(use_avx2, lanes_add, acc, T, bits);
+    /* D of chain c at its first row y = y0 + c: 8 B x (col shifted by 3 planes)
+     * + C(16y + 64) + 8E. */
+    lanes_spread(D, col, 3, ~0u, bits);
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        K[c] = (int64_t)q->C * (16 * ((int64_t)y0 + c) + 64) + 8 * (int64_t)q->E;
+    lanes_consts(T, K, bits);
+    KCALL(use_avx2, lanes_add, D, T, bits);
+    for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
+        emit(ctx, t, acc);
+        if (t + 1 < 128 / QEE_CHAINS)
+            KCALL(use_avx2, chains_step, acc, D, 128 * (int64_t)q->C, bits);
     }
 }

@@ -17,7 +17,7 @@
  *
  * Three implementations, which the tests compare: qee_value (direct int64
  * formula), qee_serial_* (per-PP multi-operand serial adder, bit by bit: the
- * reference executor's), qee_row_planes (bit-sliced row recurrence: the fast
+ * reference executor's), qee_eval_steps (bit-sliced row recurrence: the fast
  * array's). */
 #ifndef PP5_QEE_H
 #define PP5_QEE_H
@@ -46,12 +46,18 @@ typedef struct {
 void qee_serial_start(qee_serial_t *s, const qee_coeffs_t *q, int x, int y);
 unsigned qee_serial_next_bit(qee_serial_t *s);
 
-/* Fast path: calls emit(ctx, row, planes) for rows 0..127 of a region at
- * (x0, y0), where planes[2*k + h] is bit k (0 <= k < bits) of Q for the 64 PPs
- * of half h (columns 64h..64h+63, PP column c in bit c % 64).  `scratch` holds
- * 4 * bits uint64 values.  bits <= 64 + 208. */
-typedef void (*qee_row_fn)(void *ctx, unsigned row, const uint64_t *planes);
-void qee_row_planes(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_row_fn emit, void *ctx);
+/* Fast path (bit-sliced, 8 interleaved row chains): for t = 0..15 calls
+ * emit(ctx, t, planes) where planes[16 * k + j] is bit k (0 <= k < bits) of Q
+ * for the 64 PPs of plane word 16t + j (row 8t + j/2, columns 64(j%2)..+63,
+ * PP column c in bit c % 64): the 16 words of the array's planes that hold
+ * rows 8t..8t+7.  `scratch` holds QEE_SCRATCH_WORDS(bits) uint64 values;
+ * bits <= 64 + 208.  use_avx2 selects the AVX2 kernel copy (same results;
+ * only when the host has AVX2: see pp_array_set_avx2). */
+#define QEE_CHAINS 8u
+#define QEE_LANES (2u * QEE_CHAINS)
+#define QEE_SCRATCH_WORDS(bits) ((3u * QEE_LANES + 4u) * (bits))
+typedef void (*qee_step_fn)(void *ctx, unsigned step, const uint64_t *planes);
+void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
+                    qee_step_fn emit, void *ctx, bool use_avx2);
 
 #endif

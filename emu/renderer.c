@@ -97,6 +97,8 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
 {
     renderer_exec_result_t out;
     memset(&out, 0, sizeof out);
+    if (!r->array || !r->bs)
+        return pp5_fail(PP5_E_RANGE, "renderer %d was not initialised", r->index);
     pp5_status_t st = validate_stream(r, words, n_words);
     if (st != PP5_OK) {
         if (res)
@@ -191,4 +193,43 @@ pp5_status_t renderer_bs_write(renderer_t *r, unsigned block, const uint32_t *in
                         r->index, block, PP_BS_BLOCKS - 1);
     backing_write_block(r->bs, block, in);
     return PP5_OK;
+}
+
+void renderer_stats_write_json(const renderer_stats_t *s, json_writer_t *j)
+{
+    json_begin_object(j);
+    json_kv_uint(j, "streams", s->streams);
+    json_kv_uint(j, "instructions", s->instructions);
+    json_kv_uint(j, "compute_cycles", s->compute_cycles);
+    json_kv_uint(j, "stall_cycles", s->stall_cycles);
+    json_kv_uint(j, "bs_cycles", s->bs_cycles);
+    json_kv_uint(j, "bs_blocks", s->bs_blocks);
+    json_kv_uint(j, "total_cycles", s->total_cycles);
+    json_key(j, "cycles_by_class");
+    json_begin_object(j);
+    for (int c = 0; c < PP_CLASS_COUNT; c++)
+        json_kv_uint(j, pp_class_name((pp_class_t)c), s->class_cycles[c]);
+    json_end_object(j);
+    json_key(j, "instructions_by_class");
+    json_begin_object(j);
+    for (int c = 0; c < PP_CLASS_COUNT; c++)
+        json_kv_uint(j, pp_class_name((pp_class_t)c), s->class_instructions[c]);
+    json_end_object(j);
+    json_key(j, "cycles_by_opcode");
+    json_begin_object(j);
+    for (unsigned op = 0; op < PP_OP_LIMIT; op++) {
+        const pp_op_info_t *info = pp_isa_info(op);
+        if (info && s->op_instructions[op])
+            json_kv_uint(j, info->name, s->op_cycles[op]);
+    }
+    json_end_object(j);
+    json_key(j, "instructions_by_opcode");
+    json_begin_object(j);
+    for (unsigned op = 0; op < PP_OP_LIMIT; op++) {
+        const pp_op_info_t *info = pp_isa_info(op);
+        if (info && s->op_instructions[op])
+            json_kv_uint(j, info->name, s->op_instructions[op]);
+    }
+    json_end_object(j);
+    json_end_object(j);
 }

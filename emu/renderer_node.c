@@ -1,6 +1,7 @@
-/* renderer_node.c: renderer ring port: FIFO of commands, cycle charging, replies over the ring. */
+/* renderer_node.c: renderer ring port: command FIFO, functional step (maybe on a worker), cycle charging, replies. */
 #include "renderer_node.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,10 +28,19 @@ pp5_status_t rnode_init(renderer_node_t *n, unsigned index, const pp5_params_t *
     return st;
 }
 
+static void rnode_item_free(rnode_item_t *it)
+{
+    if (it) {
+        free(it->payload_copy);
+        free(it->reply_payload);
+        free(it);
+    }
+}
+
 void rnode_free(renderer_node_t *n)
 {
     while (n->count > 0) {
-        free(n->fifo[n->head].payload_copy);
+        rnode_item_free(n->fifo[n->head]);
         n->head = (n->head + 1) % n->cap;
         n->count--;
     }
@@ -47,150 +57,281 @@ bool rnode_busy(const renderer_node_t *n, pp5_tick_t now)
     return n->busy_until > now || n->count > 0;
 }
 
-static pp5_status_t rnode_fw_error(const renderer_node_t *n, const ring_msg_t *m, const char *what)
+/* ---- functional step: touches only this node's renderer and scratch ---- */
+
+static pp5_status_t item_fail(rnode_item_t *it, const renderer_node_t *n, const char *what)
 {
-    char text[400];
-    snprintf(text, sizeof text, "%s", pp5_error_text());
-    return pp5_fail(PP5_E_FIRMWARE, "renderer %u: %s from node %u.%u: %s", n->index, what, m->src.type,
-                    m->src.index, text);
+    snprintf(it->err, sizeof it->err, "renderer %u: %s from node %u.%u: %s", n->index, what,
+             it->msg.src.type, it->msg.src.index, pp5_error_text());
+    return PP5_E_FIRMWARE;
 }
 
-static pp5_status_t rnode_expect_payload(const renderer_node_t *n, const ring_msg_t *m, size_t bytes,
-                                         const char *what)
+static pp5_status_t item_payload(rnode_item_t *it, const renderer_node_t *n, size_t bytes, const char *what)
 {
-    if (m->payload_bytes != bytes) {
-        return pp5_fail(PP5_E_FIRMWARE, "renderer %u: %s from node %u.%u carries %zu bytes, expected %zu",
-                        n->index, what, m->src.type, m->src.index, m->payload_bytes, bytes);
+    if (it->msg.payload_bytes != bytes) {
+        snprintf(it->err, sizeof it->err, "renderer %u: %s from node %u.%u carries %zu bytes, expected %zu",
+                 n->index, what, it->msg.src.type, it->msg.src.index, it->msg.payload_bytes, bytes);
+        return PP5_E_FIRMWARE;
     }
     return PP5_OK;
 }
 
-/* Reply with 16384 words of data (RENDERER_DATA) to the packed address. */
-static pp5_status_t rnode_reply_data(renderer_node_t *n, uint32_t reply_to, uint32_t tag, uint32_t bits,
-                                     pp5_tick_t t)
+/* Prepare a reply message whose payload is a copy of `bytes` of `data`. */
+static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint32_t reply_to, uint32_t kind,
+                               uint32_t cls, const void *data, size_t bytes)
 {
-    ring_msg_t r;
-    memset(&r, 0, sizeof r);
-    r.src = ring_addr(RING_NODE_RENDERER, n->index);
-    r.dst = ring_addr_unpack(reply_to);
-    r.kind = RING_MSG_RENDERER_DATA;
-    r.cls = RING_CLASS_DATA;
-    r.args[0] = tag;
-    r.args[1] = bits;
-    r.payload = n->scratch;
-    r.payload_bytes = (size_t)PP_COUNT * 4;
-    return n->send(n->send_ctx, &r, t);
+    it->reply_payload = malloc(bytes);
+    if (!it->reply_payload) {
+        snprintf(it->err, sizeof it->err, "renderer %u: out of memory for a %zu-byte reply", n->index, bytes);
+        return PP5_E_NOMEM;
+    }
+    memcpy(it->reply_payload, data, bytes);
+    memset(&it->reply, 0, sizeof it->reply);
+    it->reply.src = ring_addr(RING_NODE_RENDERER, n->index);
+    it->reply.dst = ring_addr_unpack(reply_to);
+    it->reply.kind = kind;
+    it->reply.cls = cls;
+    it->reply.payload = it->reply_payload;
+    it->reply.payload_bytes = bytes;
+    it->has_reply = true;
+    return PP5_OK;
 }
 
-/* Execute one message starting at t; sets *cycles; posts replies at t + cycles. */
-static pp5_status_t rnode_execute(renderer_node_t *n, const ring_msg_t *m, pp5_tick_t t, uint64_t *cycles,
-                                  const char **what)
+static pp5_status_t rnode_apply_inner(renderer_node_t *n, rnode_item_t *it)
 {
-    uint64_t c = n->msg_cycles;
-    pp5_status_t st = PP5_OK;
+    const ring_msg_t *m = &it->msg;
     const uint32_t *words = m->payload;
+    uint64_t port = 0;
+    pp5_status_t st = PP5_OK;
     switch (m->kind) {
     case RING_MSG_RENDERER_EXEC: {
-        *what = "exec";
+        it->what = "exec";
         if (m->payload_bytes % 4 != 0) {
-            return rnode_expect_payload(n, m, m->payload_bytes / 4 * 4, "RENDERER_EXEC");
+            return item_payload(it, n, m->payload_bytes / 4 * 4, "RENDERER_EXEC");
         }
         renderer_exec_result_t res;
-        st = renderer_execute(&n->r, words, m->payload_bytes / 4, &res);
-        if (st != PP5_OK) {
-            return rnode_fw_error(n, m, "RENDERER_EXEC");
+        if (renderer_execute(&n->r, words, m->payload_bytes / 4, &res) != PP5_OK) {
+            return item_fail(it, n, "RENDERER_EXEC");
         }
-        c += res.total_cycles;
-        n->exec_cycles += res.total_cycles;
+        it->exec_cycles = res.total_cycles;
         break;
     }
     case RING_MSG_RENDERER_SET_REGION:
-        *what = "set_region";
+        it->what = "set_region";
         renderer_set_region(&n->r, (int)(int32_t)m->args[0], (int)(int32_t)m->args[1]);
         break;
     case RING_MSG_RENDERER_WRITE_FIELD:
-        *what = "write_field";
-        if ((st = rnode_expect_payload(n, m, (size_t)PP_COUNT * 4, "RENDERER_WRITE_FIELD")) != PP5_OK) {
+        it->what = "write_field";
+        if ((st = item_payload(it, n, (size_t)PP_COUNT * 4, "RENDERER_WRITE_FIELD")) != PP5_OK) {
             return st;
         }
         if (renderer_write_field(&n->r, m->args[0], m->args[1], words) != PP5_OK) {
-            return rnode_fw_error(n, m, "RENDERER_WRITE_FIELD");
+            return item_fail(it, n, "RENDERER_WRITE_FIELD");
         }
-        c += (uint64_t)m->args[1] * n->cycles_per_bit;
-        n->port_cycles += (uint64_t)m->args[1] * n->cycles_per_bit;
+        port = (uint64_t)m->args[1] * n->cycles_per_bit;
         break;
     case RING_MSG_RENDERER_WRITE_BS:
-        *what = "write_bs";
-        if ((st = rnode_expect_payload(n, m, (size_t)PP_COUNT * 4, "RENDERER_WRITE_BS")) != PP5_OK) {
+        it->what = "write_bs";
+        if ((st = item_payload(it, n, (size_t)PP_COUNT * 4, "RENDERER_WRITE_BS")) != PP5_OK) {
             return st;
         }
         if (renderer_bs_write(&n->r, m->args[0], words) != PP5_OK) {
-            return rnode_fw_error(n, m, "RENDERER_WRITE_BS");
+            return item_fail(it, n, "RENDERER_WRITE_BS");
         }
-        c += 32ull * n->cycles_per_bit;
-        n->port_cycles += 32ull * n->cycles_per_bit;
+        port = 32ull * n->cycles_per_bit;
         break;
     case RING_MSG_RENDERER_READ_FIELD:
-        *what = "read_field";
+        it->what = "read_field";
         if (renderer_read_field(&n->r, m->args[0], m->args[1], n->scratch) != PP5_OK) {
-            return rnode_fw_error(n, m, "RENDERER_READ_FIELD");
+            return item_fail(it, n, "RENDERER_READ_FIELD");
         }
-        c += (uint64_t)m->args[1] * n->cycles_per_bit;
-        n->port_cycles += (uint64_t)m->args[1] * n->cycles_per_bit;
-        st = rnode_reply_data(n, m->args[2], m->args[3], m->args[1], t + c * n->period_ps);
+        port = (uint64_t)m->args[1] * n->cycles_per_bit;
+        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, n->scratch,
+                        (size_t)PP_COUNT * 4);
+        it->reply.args[0] = m->args[3];
+        it->reply.args[1] = m->args[1];
         break;
     case RING_MSG_RENDERER_READ_BS:
-        *what = "read_bs";
+        it->what = "read_bs";
         if (renderer_bs_read(&n->r, m->args[0], n->scratch) != PP5_OK) {
-            return rnode_fw_error(n, m, "RENDERER_READ_BS");
+            return item_fail(it, n, "RENDERER_READ_BS");
         }
-        c += 32ull * n->cycles_per_bit;
-        n->port_cycles += 32ull * n->cycles_per_bit;
-        st = rnode_reply_data(n, m->args[2], m->args[3], 32, t + c * n->period_ps);
+        port = 32ull * n->cycles_per_bit;
+        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, n->scratch,
+                        (size_t)PP_COUNT * 4);
+        it->reply.args[0] = m->args[3];
+        it->reply.args[1] = 32;
         break;
     case RING_MSG_RENDERER_SEND_PIXELS: {
-        *what = "send_pixels";
+        it->what = "send_pixels";
         for (int k = 0; k < 3; k++) {
             if (renderer_read_field(&n->r, m->args[k], 8, n->scratch + (size_t)k * PP_COUNT) != PP5_OK) {
-                return rnode_fw_error(n, m, "RENDERER_SEND_PIXELS");
+                return item_fail(it, n, "RENDERER_SEND_PIXELS");
             }
         }
-        c += 24ull * n->cycles_per_bit;
-        n->port_cycles += 24ull * n->cycles_per_bit;
-        /* Pack RGB8 row-major into the tail of scratch viewed as bytes is
-         * unsafe (aliasing the source); use a separate buffer. */
-        uint8_t *rgb = malloc((size_t)PP_COUNT * 3);
-        if (!rgb) {
-            return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory", n->index);
+        port = 24ull * n->cycles_per_bit;
+        /* Interleave R, G, B row-major into the reply (FB_PIXELS format). */
+        st = item_reply(it, n, m->args[3], RING_MSG_FB_PIXELS, RING_CLASS_PIXELS, n->scratch, (size_t)PP_COUNT * 3);
+        if (st != PP5_OK) {
+            return st;
         }
+        uint8_t *rgb = it->reply_payload;
         for (size_t i = 0; i < PP_COUNT; i++) {
             rgb[3 * i + 0] = (uint8_t)n->scratch[i];
             rgb[3 * i + 1] = (uint8_t)n->scratch[PP_COUNT + i];
             rgb[3 * i + 2] = (uint8_t)n->scratch[2 * PP_COUNT + i];
         }
-        ring_msg_t r;
-        memset(&r, 0, sizeof r);
-        r.src = ring_addr(RING_NODE_RENDERER, n->index);
-        r.dst = ring_addr_unpack(m->args[3]);
-        r.kind = RING_MSG_FB_PIXELS;
-        r.cls = RING_CLASS_PIXELS;
-        r.args[0] = (uint32_t)n->r.x0;
-        r.args[1] = (uint32_t)n->r.y0;
-        r.args[2] = PP_ARRAY_DIM;
-        r.args[3] = PP_ARRAY_DIM;
-        r.payload = rgb;
-        r.payload_bytes = (size_t)PP_COUNT * 3;
-        st = n->send(n->send_ctx, &r, t + c * n->period_ps);
-        free(rgb);
+        it->reply.args[0] = (uint32_t)n->r.x0;
+        it->reply.args[1] = (uint32_t)n->r.y0;
+        it->reply.args[2] = PP_ARRAY_DIM;
+        it->reply.args[3] = PP_ARRAY_DIM;
         break;
     }
     default:
-        return pp5_fail(PP5_E_FIRMWARE, "renderer %u: message kind %u from node %u.%u is not a renderer command",
-                        n->index, m->kind, m->src.type, m->src.index);
+        snprintf(it->err, sizeof it->err, "renderer %u: message kind %u from node %u.%u is not a renderer command",
+                 n->index, m->kind, m->src.type, m->src.index);
+        return PP5_E_FIRMWARE;
     }
-    *cycles = c;
+    it->port_cycles = port;
+    it->cycles = n->msg_cycles + it->exec_cycles + port;
     return st;
 }
+
+static void rnode_apply(renderer_node_t *n, rnode_item_t *it)
+{
+    it->what = "?";
+    it->st = rnode_apply_inner(n, it);
+}
+
+/* ---- worker pool ---- */
+
+/* Claim the next unstarted item of some node (caller holds the lock). */
+static rnode_item_t *rpool_claim(rpool_t *p, renderer_node_t **node_out)
+{
+    for (unsigned i = 0; i < p->n_nodes; i++) {
+        renderer_node_t *n = &p->nodes[i];
+        if (!n->in_progress && n->claimed < n->count) {
+            rnode_item_t *it = n->fifo[(n->head + n->claimed) % n->cap];
+            n->claimed++;
+            n->in_progress = true;
+            *node_out = n;
+            return it;
+        }
+    }
+    return NULL;
+}
+
+static void *rpool_worker(void *arg)
+{
+    rpool_t *p = arg;
+    pthread_mutex_lock(&p->mu);
+    for (;;) {
+        renderer_node_t *n = NULL;
+        rnode_item_t *it = NULL;
+        while (!p->stop && !(it = rpool_claim(p, &n))) {
+            pthread_cond_wait(&p->work, &p->mu);
+        }
+        if (!it) {
+            break;
+        }
+        pthread_mutex_unlock(&p->mu);
+        rnode_apply(n, it);
+        pthread_mutex_lock(&p->mu);
+        it->done = true;
+        n->in_progress = false;
+        pthread_cond_broadcast(&p->done);
+        pthread_cond_broadcast(&p->work);     /* this node's next item is claimable */
+    }
+    pthread_mutex_unlock(&p->mu);
+    return NULL;
+}
+
+pp5_status_t rpool_start(rpool_t *p, renderer_node_t *nodes, unsigned n_nodes, unsigned n_threads)
+{
+    memset(p, 0, sizeof *p);
+    p->nodes = nodes;
+    p->n_nodes = n_nodes;
+    p->threads = calloc(n_threads, sizeof *p->threads);
+    if (!p->threads) {
+        return pp5_fail(PP5_E_NOMEM, "out of memory for %u worker threads", n_threads);
+    }
+    pthread_mutex_init(&p->mu, NULL);
+    pthread_cond_init(&p->work, NULL);
+    pthread_cond_init(&p->done, NULL);
+    for (unsigned i = 0; i < n_nodes; i++) {
+        nodes[i].pool = p;
+    }
+    for (unsigned i = 0; i < n_threads; i++) {
+        if (pthread_create(&p->threads[i], NULL, rpool_worker, p) != 0) {
+            rpool_stop(p);
+            return pp5_fail(PP5_E_NOMEM, "cannot start worker thread %u", i);
+        }
+        p->n_threads++;
+    }
+    return PP5_OK;
+}
+
+void rpool_stop(rpool_t *p)
+{
+    if (!p->threads) {
+        return;
+    }
+    pthread_mutex_lock(&p->mu);
+    p->stop = true;
+    pthread_cond_broadcast(&p->work);
+    pthread_mutex_unlock(&p->mu);
+    for (unsigned i = 0; i < p->n_threads; i++) {
+        pthread_join(p->threads[i], NULL);
+    }
+    for (unsigned i = 0; i < p->n_nodes; i++) {
+        p->nodes[i].pool = NULL;
+        p->nodes[i].claimed = 0;
+    }
+    pthread_cond_destroy(&p->work);
+    pthread_cond_destroy(&p->done);
+    pthread_mutex_destroy(&p->mu);
+    free(p->threads);
+    memset(p, 0, sizeof *p);
+}
+
+/* Make sure the head item's functional step is done (run it here if no
+ * worker has started it), then pop it. */
+static rnode_item_t *rnode_pop_done(renderer_node_t *n)
+{
+    rnode_item_t *it = n->fifo[n->head];
+    rpool_t *p = n->pool;
+    if (!p) {
+        if (!it->done) {          /* may have been done by a pool stopped since */
+            rnode_apply(n, it);
+            it->done = true;
+        }
+    } else {
+        pthread_mutex_lock(&p->mu);
+        while (!it->done) {
+            if (n->claimed == 0 && !n->in_progress) {
+                n->claimed = 1;
+                n->in_progress = true;
+                pthread_mutex_unlock(&p->mu);
+                rnode_apply(n, it);
+                pthread_mutex_lock(&p->mu);
+                it->done = true;
+                n->in_progress = false;
+                pthread_cond_broadcast(&p->work);
+            } else {
+                pthread_cond_wait(&p->done, &p->mu);
+            }
+        }
+        n->claimed--;
+    }
+    n->head = (n->head + 1) % n->cap;
+    n->count--;
+    if (p) {
+        pthread_mutex_unlock(&p->mu);
+    }
+    return it;
+}
+
+/* ---- timing step (scheduler thread) ---- */
 
 static pp5_status_t rnode_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
 {
@@ -199,60 +340,84 @@ static pp5_status_t rnode_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
     if (n->count == 0) {
         return PP5_OK;
     }
-    rnode_item_t item = n->fifo[n->head];
-    n->head = (n->head + 1) % n->cap;
-    n->count--;
-    pp5_tick_t start = tick_max(now, n->busy_until);
-    uint64_t cycles = 0;
-    const char *what = "?";
-    pp5_status_t st = rnode_execute(n, &item.msg, start, &cycles, &what);
-    free(item.payload_copy);
-    if (st != PP5_OK) {
+    rnode_item_t *it = rnode_pop_done(n);
+    if (it->st != PP5_OK) {
+        pp5_status_t st = pp5_fail(it->st, "%s", it->err);
+        rnode_item_free(it);
         return st;
     }
-    pp5_tick_t dur = clock_cycles_ps(cycles, n->period_ps);
+    pp5_tick_t start = tick_max(now, n->busy_until);
+    pp5_tick_t dur = clock_cycles_ps(it->cycles, n->period_ps);
     n->busy_until = start + dur;
     n->busy_ps += dur;
-    n->cycles += cycles;
+    n->cycles += it->cycles;
+    n->exec_cycles += it->exec_cycles;
+    n->port_cycles += it->port_cycles;
     n->messages++;
     if (n->trace && dur > 0) {
-        n->trace(n->trace_ctx, n->index, what, start, start + dur);
+        n->trace(n->trace_ctx, n->index, it->what, start, start + dur);
     }
-    if (n->count > 0) {
+    pp5_status_t st = PP5_OK;
+    if (it->has_reply) {
+        st = n->send(n->send_ctx, &it->reply, n->busy_until);
+    }
+    rnode_item_free(it);
+    if (st == PP5_OK && n->count > 0) {
         n->scheduled = true;
-        return sched_at(n->sched, n->busy_until, SCHED_PRIO_UNIT, rnode_run_event, n, 0);
+        st = sched_at(n->sched, n->busy_until, SCHED_PRIO_UNIT, rnode_run_event, n, 0);
     }
-    return PP5_OK;
+    return st;
 }
 
 pp5_status_t rnode_deliver(renderer_node_t *n, const ring_msg_t *msg, pp5_tick_t now)
 {
-    if (n->count == n->cap) {
-        size_t cap = n->cap ? n->cap * 2 : 16;
-        rnode_item_t *q = malloc(cap * sizeof *q);
-        if (!q) {
-            return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for the FIFO", n->index);
-        }
-        for (size_t i = 0; i < n->count; i++) {
-            q[i] = n->fifo[(n->head + i) % n->cap];
-        }
-        free(n->fifo);
-        n->fifo = q;
-        n->head = 0;
-        n->cap = cap;
+    rnode_item_t *it = calloc(1, sizeof *it);
+    if (!it) {
+        return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for a command", n->index);
     }
-    rnode_item_t *it = &n->fifo[(n->head + n->count) % n->cap];
     it->msg = *msg;
-    it->payload_copy = NULL;
     if (msg->payload_bytes > 0) {
         it->payload_copy = malloc(msg->payload_bytes);
         if (!it->payload_copy) {
+            free(it);
             return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for a message", n->index);
         }
         memcpy(it->payload_copy, msg->payload, msg->payload_bytes);
     }
     it->msg.payload = it->payload_copy;
-    n->count++;
+
+    rpool_t *p = n->pool;
+    if (p) {
+        pthread_mutex_lock(&p->mu);
+    }
+    pp5_status_t st = PP5_OK;
+    if (n->count == n->cap) {
+        size_t cap = n->cap ? n->cap * 2 : 16;
+        rnode_item_t **q = malloc(cap * sizeof *q);
+        if (!q) {
+            st = pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for the FIFO", n->index);
+        } else {
+            for (size_t i = 0; i < n->count; i++) {
+                q[i] = n->fifo[(n->head + i) % n->cap];
+            }
+            free(n->fifo);
+            n->fifo = q;
+            n->head = 0;
+            n->cap = cap;
+        }
+    }
+    if (st == PP5_OK) {
+        n->fifo[(n->head + n->count) % n->cap] = it;
+        n->count++;
+    }
+    if (p) {
+        pthread_cond_signal(&p->work);
+        pthread_mutex_unlock(&p->mu);
+    }
+    if (st != PP5_OK) {
+        rnode_item_free(it);
+        return st;
+    }
     if (!n->scheduled) {
         n->scheduled = true;
         return sched_at(n->sched, tick_max(now, n->busy_until), SCHED_PRIO_UNIT, rnode_run_event, n, 0);

@@ -153,6 +153,9 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
         json_kv_uint(&j, "bs_cycles", r->r.stats.bs_cycles);
         json_kv_uint(&j, "instructions", r->r.stats.instructions);
         json_kv_uint(&j, "messages", r->messages);
+        /* Cycles and instructions by PP opcode class and opcode (emu-pp). */
+        json_key(&j, "pp");
+        renderer_stats_write_json(&r->r.stats, &j);
         json_end_object(&j);
     }
     json_end_array(&j);
@@ -211,6 +214,12 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
         json_double(&j, stats_ring_channel_utilization(m, c));
     }
     json_end_array(&j);
+    json_key(&j, "by_class");
+    json_begin_object(&j);
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        json_kv_double(&j, stats_class_name(k), stats_ring_class_utilization(m, k));
+    }
+    json_end_object(&j);
     json_end_object(&j);
     json_end_object(&j);
 

@@ -42,6 +42,7 @@ void ring_free(ring_t *r)
     if (r->port) {
         for (unsigned i = 0; i < r->n_nodes; i++) {
             free(r->port[i].slot);
+            free(r->port[i].rx_free_at);
         }
     }
     free(r->port);
@@ -155,9 +156,27 @@ static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
     ring_channel_t *ch = &r->ch[best];
     uint64_t wire = ring_wire_bytes(r, &f->msg);
     pp5_tick_t ser = ring_serialise_ps(r, wire);
+    pp5_tick_t latency = (pp5_tick_t)ring_hops(r, f->src_pos, f->dst_pos) * r->hop_ps;
     pp5_tick_t start = tick_max(now, ch->free_at);
+    ring_port_t *dp = &r->port[f->dst_pos];
+    unsigned rx = 0;
+    if (dp->n_rx > 0) {
+        /* The receiver takes the message over [start + latency, arrival]:
+         * wait for its earliest free port (ties: lowest index). */
+        for (unsigned k = 1; k < dp->n_rx; k++) {
+            if (dp->rx_free_at[k] < dp->rx_free_at[rx]) {
+                rx = k;
+            }
+        }
+        if (dp->rx_free_at[rx] > start + latency) {
+            start = dp->rx_free_at[rx] - latency;
+        }
+    }
     pp5_tick_t end = start + ser;
-    pp5_tick_t arrival = end + (pp5_tick_t)ring_hops(r, f->src_pos, f->dst_pos) * r->hop_ps;
+    pp5_tick_t arrival = end + latency;
+    if (dp->n_rx > 0) {
+        dp->rx_free_at[rx] = arrival;
+    }
     ch->free_at = end;
     ch->busy_ticks += ser;
     ch->bytes += wire;
@@ -231,6 +250,24 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
     p->slot[(p->head + p->count) % p->cap] = slot;
     p->count++;
     return ring_schedule_pump(r, src_pos);
+}
+
+pp5_status_t ring_set_rx_ports(ring_t *r, unsigned pos, unsigned ports)
+{
+    PP5_ASSERT(pos < r->n_nodes, "ring position out of range");
+    ring_port_t *p = &r->port[pos];
+    free(p->rx_free_at);
+    p->rx_free_at = NULL;
+    p->n_rx = 0;
+    if (ports == 0) {
+        return PP5_OK;
+    }
+    p->rx_free_at = calloc(ports, sizeof *p->rx_free_at);
+    if (!p->rx_free_at) {
+        return pp5_fail(PP5_E_NOMEM, "ring: out of memory for %u receive ports", ports);
+    }
+    p->n_rx = ports;
+    return PP5_OK;
 }
 
 uint64_t ring_total_bytes_sent(const ring_t *r)

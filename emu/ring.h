@@ -24,15 +24,18 @@
  * Not modelled: the hardware arbitration / token protocol and the packet
  * format, which no source describes ([U], facts §5 and open question 1);
  * spatial reuse of one channel by messages on disjoint ring segments (a
- * message holds its whole channel: conservative); receiver back-pressure
- * (a node accepts on all channels at once); maximum message size. */
+ * message holds its whole channel: conservative); maximum message size.
+ * Receivers accept on all channels at once unless ring_set_rx_ports limits a
+ * node (used for the frame buffer, parameter fb.rx_ports [U]): then a
+ * message starts only when it will find a free receive port on arrival,
+ * holding its channel while it waits. */
 #ifndef PP5_RING_H
 #define PP5_RING_H
 
 #include <stdint.h>
 #include "pp5_time.h"
 #include "ring_msg.h"
-#include "sched.h"
+#include "pp5_sched.h"
 
 /* Arbitration runs after deliveries and before unit work at one instant. */
 #define RING_PRIO_ARBITRATE 15
@@ -66,6 +69,10 @@ typedef struct {
     size_t head, count, cap;
     pp5_tick_t tx_free_at;
     int pump_scheduled;
+    /* Receive side: 0 = unlimited (a node accepts on every channel at
+     * once); otherwise at most n_rx messages arrive at the same time. */
+    unsigned n_rx;
+    pp5_tick_t *rx_free_at;
 } ring_port_t;
 
 typedef struct {
@@ -111,6 +118,9 @@ unsigned ring_hops(const ring_t *r, unsigned src_pos, unsigned dst_pos);
  * scheduler events on r->sched. */
 pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos,
                        pp5_tick_t t);
+
+/* Limit node `pos` to `ports` simultaneous incoming messages (0 = unlimited). */
+pp5_status_t ring_set_rx_ports(ring_t *r, unsigned pos, unsigned ports);
 
 uint64_t ring_total_bytes_sent(const ring_t *r);
 pp5_tick_t ring_total_busy_ticks(const ring_t *r);

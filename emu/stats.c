@@ -50,6 +50,15 @@ double stats_ring_channel_utilization(const machine_t *m, unsigned c)
     return t ? (double)frames_channel_busy(m, c) / (double)t : 0.0;
 }
 
+double stats_ring_class_utilization(const machine_t *m, unsigned cls)
+{
+    pp5_tick_t t = frames_ticks(m), busy = 0;
+    for (unsigned i = 0; i < m->n_frames; i++) {
+        busy += m->frames[i].busy_by_class[cls];
+    }
+    return t ? (double)busy / ((double)t * m->ring.n_channels) : 0.0;
+}
+
 double stats_ring_utilization(const machine_t *m)
 {
     pp5_tick_t t = frames_ticks(m);
@@ -124,6 +133,8 @@ pp5_status_t stats_collect(stats_t *s, const machine_t *m)
         ADD((double)m->ring.bytes_delivered[k], "bytes", "wire bytes delivered in this class", "ring.class.%s.bytes_delivered", stats_class_name(k));
         ADD((double)m->ring.msgs_sent[k], "count", "messages sent in this class", "ring.class.%s.messages", stats_class_name(k));
         ADD(ticks_to_s(m->ring.busy_by_class[k]), "s", "channel time used by this class (all channels)", "ring.class.%s.busy_s", stats_class_name(k));
+        ADD(stats_ring_class_utilization(m, k), "fraction", "class busy time inside frames / (channels x frame time)",
+            "ring.class.%s.utilization", stats_class_name(k));
     }
     ADD(stats_ring_utilization(m), "fraction", "channel busy time inside frames / (channels x frame time)", "ring.utilization");
     ADD((double)m->fb.blocks_received, "count", "pixel blocks received", "fb.blocks");

@@ -34,6 +34,8 @@ double stats_frames_total_s(const machine_t *m);      /* sum of all frame times 
  * channel's busy time inside frames / total frame time. */
 double stats_ring_utilization(const machine_t *m);
 double stats_ring_channel_utilization(const machine_t *m, unsigned channel);
+/* Share of the ring's capacity (channels x frame time) used by one class. */
+double stats_ring_class_utilization(const machine_t *m, unsigned cls);
 const char *stats_class_name(unsigned cls);
 
 #endif

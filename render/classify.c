@@ -1,6 +1,9 @@
 /* classify.c: Levoy-1988 iso-value contour opacity and the transfer-function
  * presets.  The preset values were read off histograms of the data (see the
- * comments), not tuned to any paper figure. */
+ * comments), not tuned to any paper figure.  The real-data presets drop
+ * voxels below 5% (2% for the faint ct-bone skin) opacity, as VolPack's
+ * examples do: CT and MR noise otherwise scatters faint voxels through the
+ * air around the head and fragments the octree. */
 #include "classify.h"
 
 #include <math.h>
@@ -10,29 +13,32 @@ typedef struct {
     const char *name;
     int count;
     classify_contour_t contour[CLASSIFY_MAX_CONTOURS];
+    float min_opacity;
 } preset_t;
 
 static const preset_t presets[] = {
     /* CThead (u16, 0..3272): air peaks below 100, soft tissue at 1000-1100,
      * bone from ~1600 (histogram of cthead_256x256x113_u16be).  Skin is the
      * air/tissue boundary halfway between the two peaks. */
-    {"ct-skin", 1, {{500.0f, 0.8f, 2.0f, {0.95f, 0.75f, 0.62f}}}},
-    {"ct-bone", 2, {{500.0f, 0.08f, 2.0f, {0.95f, 0.75f, 0.62f}},
-                    {1600.0f, 0.9f, 2.0f, {1.0f, 1.0f, 0.92f}}}},
+    {"ct-skin", 1, {{500.0f, 1.0f, 2.0f, {0.95f, 0.75f, 0.62f}, 0.0f}}, 0.05f},
+    /* The peers' value ramp (render/peers/): 350 -> 0.8 at 640, 0.8 above. */
+    {"ct-skin-ramp", 1, {{495.0f, 0.8f, 0.0f, {0.95f, 0.75f, 0.62f}, 290.0f}}, 0.05f},
+    {"ct-bone", 2, {{500.0f, 0.08f, 2.0f, {0.95f, 0.75f, 0.62f}, 0.0f},
+                    {1600.0f, 0.9f, 2.0f, {1.0f, 1.0f, 0.92f}, 0.0f}}, 0.02f},
     /* brainsmall MR (u8, 0..202): background below ~15, head tissue 40-90,
      * bright tissue 100-150.  The scalp/skin surface sits near 40. */
-    {"mr", 2, {{40.0f, 0.6f, 2.0f, {0.92f, 0.80f, 0.70f}},
-               {100.0f, 0.9f, 2.0f, {1.0f, 1.0f, 1.0f}}}},
+    {"mr", 2, {{40.0f, 0.6f, 2.0f, {0.92f, 0.80f, 0.70f}, 0.0f},
+               {100.0f, 0.9f, 2.0f, {1.0f, 1.0f, 1.0f}, 0.0f}}, 0.05f},
     /* Shepp-Logan phantom (render/phantom.c): air 0, skull shell 200, brain
      * 40, ventricles 0, lesions 60-120.  Every iso-value above 40 also occurs
      * in the skull shell, so the surfaces are kept semi-transparent: the
      * lesions (contour 70 in the 40 brain) show through the skull. */
-    {"shepp-logan", 2, {{150.0f, 0.25f, 2.5f, {0.92f, 0.80f, 0.70f}},
-                        {70.0f, 0.35f, 2.5f, {0.55f, 0.75f, 1.0f}}}},
+    {"shepp-logan", 2, {{150.0f, 0.1f, 2.5f, {0.92f, 0.80f, 0.70f}, 0.0f},
+                        {70.0f, 0.3f, 2.5f, {0.55f, 0.75f, 1.0f}, 0.0f}}, 0.0f},
     /* Marschner-Lobb (0..1): the classic iso-surface at 0.5. */
-    {"marschner-lobb", 1, {{0.5f, 0.9f, 1.5f, {0.9f, 0.9f, 0.9f}}}},
+    {"marschner-lobb", 1, {{0.5f, 0.9f, 1.5f, {0.9f, 0.9f, 0.9f}, 0.0f}}, 0.0f},
     /* Sphere shell (0..200): iso 100 gives the inner and outer spheres. */
-    {"sphere-shell", 1, {{100.0f, 0.7f, 1.5f, {0.9f, 0.85f, 0.7f}}}},
+    {"sphere-shell", 1, {{100.0f, 0.7f, 1.5f, {0.9f, 0.85f, 0.7f}, 0.0f}}, 0.0f},
 };
 
 pp5_status_t classify_preset(const char *name, classify_tf_t *tf)
@@ -43,6 +49,7 @@ pp5_status_t classify_preset(const char *name, classify_tf_t *tf)
             strncpy(tf->name, presets[i].name, sizeof tf->name - 1);
             tf->count = presets[i].count;
             memcpy(tf->contour, presets[i].contour, sizeof tf->contour);
+            tf->min_opacity = presets[i].min_opacity;
             return PP5_OK;
         }
     }
@@ -52,7 +59,7 @@ pp5_status_t classify_preset(const char *name, classify_tf_t *tf)
 
 const char *classify_preset_names(void)
 {
-    return "ct-skin, ct-bone, mr, shepp-logan, marschner-lobb, sphere-shell";
+    return "ct-skin, ct-skin-ramp, ct-bone, mr, shepp-logan, marschner-lobb, sphere-shell";
 }
 
 float classify_voxel(const classify_tf_t *tf, float value, float grad_mag, float rgb[3])
@@ -63,7 +70,10 @@ float classify_voxel(const classify_tf_t *tf, float value, float grad_mag, float
         const classify_contour_t *k = &tf->contour[i];
         float d = fabsf(k->value - value);
         float a = 0.0f;
-        if (grad_mag > 0.0f) {
+        if (k->ramp_width > 0.0f) {
+            float f = (value - (k->value - 0.5f * k->ramp_width)) / k->ramp_width;
+            a = k->opacity * (f <= 0.0f ? 0.0f : (f >= 1.0f ? 1.0f : f));
+        } else if (grad_mag > 0.0f) {
             float f = 1.0f - d / (k->width_vox * grad_mag);
             if (f > 0.0f)
                 a = k->opacity * f;
@@ -77,7 +87,10 @@ float classify_voxel(const classify_tf_t *tf, float value, float grad_mag, float
                 c[ch] += a * k->rgb[ch];
         }
     }
+    float alpha = 1.0f - transparency;
+    if (alpha < tf->min_opacity)
+        alpha = 0.0f;
     for (int ch = 0; ch < 3; ch++)
-        rgb[ch] = wsum > 0.0f ? c[ch] / wsum : 0.0f;
-    return 1.0f - transparency;
+        rgb[ch] = alpha > 0.0f ? c[ch] / wsum : 0.0f;
+    return alpha;
 }

@@ -13,7 +13,8 @@
  * from the iso-surface.  Several contours combine as independent layers:
  * alpha = 1 - prod(1 - a_i), colour = sum(a_i * rgb_i) / sum(a_i).  (Levoy 1988
  * instead interpolates opacity between adjacent contour values; the layered
- * combination is our simplification and keeps contours independent.) */
+ * combination is our simplification and keeps contours independent.)
+ * A combined opacity below the preset's min_opacity is set to 0. */
 #ifndef PP5_CLASSIFY_H
 #define PP5_CLASSIFY_H
 
@@ -26,12 +27,21 @@ typedef struct {
     float opacity;      /* 0..1 at the surface */
     float width_vox;    /* transition thickness r, voxels */
     float rgb[3];       /* material colour 0..1 */
+    /* > 0: not a contour but a value ramp (the 1D transfer functions of VTK
+     * and VolPack, for like-for-like peer comparisons): opacity rises
+     * linearly from 0 at value - ramp_width/2 to `opacity` at
+     * value + ramp_width/2 and stays there; gradient and width_vox unused. */
+    float ramp_width;
 } classify_contour_t;
 
 typedef struct {
     char name[32];
     int count;
     classify_contour_t contour[CLASSIFY_MAX_CONTOURS];
+    /* Voxels whose combined opacity is below this are made fully transparent
+     * (VolPack's VP_MIN_VOXEL_OPACITY idea): faint wisps from noise would
+     * otherwise fill the octree.  0 keeps every voxel. */
+    float min_opacity;
 } classify_tf_t;
 
 /* Presets: "ct-skin", "ct-bone" (CThead units, 0..3272: air ~0, soft tissue

@@ -4,13 +4,9 @@
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "cliopt.h"
-#include "json.h"
-#include "plot.h"
-#include "quality.h"
 #include "registry.h"
 #include "render_cli.h"
 #include "renderer_native.h"
@@ -51,6 +47,11 @@ static void render_usage(void)
            "  --gaze X,Y            fixated pixel (default image centre)\n"
            "  --monitor-diag IN --view-distance IN --subtense DEG\n"
            "                        display geometry (19, 20, 37: paper §6)\n"
+           "  --sweet-spot-deg D    full resolution inside this circle diameter (12)\n"
+           "  --periphery-deg D     periphery resolution outside this diameter (20)\n"
+           "  --periphery-pixels N  pixels per ray in the periphery (16 = paper)\n"
+           "  --sigma-deg S         Gaussian falloff width (default: from the paper's\n"
+           "                        5-inch level-0 span, see gaze2d.h)\n"
            "  --progressive N       N frames of unchanged view, keeping the 2D mip map\n"
            "Outputs:\n"
            "  --out FILE.png        the image\n"
@@ -68,7 +69,8 @@ enum {
     OPT_SPACING, OPT_HEADER_BYTES, OPT_TF, OPT_LIGHTING, OPT_SPECULAR, OPT_SIZE, OPT_ROTX,
     OPT_ROTY, OPT_ROTZ, OPT_ZOOM, OPT_PROJECTION, OPT_EYE, OPT_STEP, OPT_EARLY, OPT_NO_OCTREE,
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
-    OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP
+    OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
+    OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA
 };
 
 static pp5_status_t parse_dims3(const char *opt, const char *text, volume_raw_spec_t *spec)
@@ -127,6 +129,10 @@ static int render_main(int argc, char **argv)
         {"view-distance", required_argument, NULL, OPT_DISTANCE},
         {"subtense", required_argument, NULL, OPT_SUBTENSE},
         {"progressive", required_argument, NULL, OPT_PROGRESSIVE},
+        {"sweet-spot-deg", required_argument, NULL, OPT_SWEET},
+        {"periphery-deg", required_argument, NULL, OPT_PERIPHERY},
+        {"periphery-pixels", required_argument, NULL, OPT_PERIPHERY_PX},
+        {"sigma-deg", required_argument, NULL, OPT_SIGMA},
         {"out", required_argument, NULL, OPT_OUT},
         {"report", required_argument, NULL, OPT_REPORT},
         {"compare", no_argument, NULL, OPT_COMPARE},
@@ -228,6 +234,17 @@ static int render_main(int argc, char **argv)
                                               &cli.settings.display.view_distance_in); break;
         case OPT_SUBTENSE: st = cliopt_double("--subtense", optarg, 0, 160,
                                               &cli.settings.display.image_subtense_deg); break;
+        case OPT_SWEET: st = cliopt_double("--sweet-spot-deg", optarg, 0.1, 160,
+                                           &cli.settings.display.full_res_diameter_deg); break;
+        case OPT_PERIPHERY: st = cliopt_double("--periphery-deg", optarg, 0.1, 160,
+                                               &cli.settings.display.periphery_diameter_deg);
+            break;
+        case OPT_PERIPHERY_PX:
+            st = cliopt_double("--periphery-pixels", optarg, 4, 65536, &d);
+            cli.settings.display.periphery_rays_per_px = 1.0 / d;
+            break;
+        case OPT_SIGMA: st = cliopt_double("--sigma-deg", optarg, 0.01, 90,
+                                           &cli.settings.display.sigma_deg); break;
         case OPT_PROGRESSIVE: st = cliopt_long("--progressive", optarg, 1, 64, &l);
             cli.progressive_frames = (int)l; break;
         case OPT_OUT: cli.out_png = optarg; break;

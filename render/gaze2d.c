@@ -65,12 +65,12 @@ pp5_status_t gaze_model_init(gaze_model_t *g, const gaze_display_t *d, int width
     } else {
         double e5 = atan(0.5 * d->span1_diameter_in / d->view_distance_in) / DEG;
         double ratio = (1.0 - g->rho_min) / (0.25 - g->rho_min);
-        if (!(e5 > g->e_full_deg) || !(e5 < g->e_edge_deg) || !(ratio > 1.0))
-            return pp5_fail(PP5_E_CONFIG, "gaze: level-0 span diameter %g\" must lie between "
-                            "the full-resolution and periphery circles",
-                            d->span1_diameter_in);
-        g->sigma_deg = (e5 - g->e_full_deg) / sqrt(2.0 * log(ratio));
+        if (e5 > g->e_full_deg && e5 < g->e_edge_deg && ratio > 1.0)
+            g->sigma_deg = (e5 - g->e_full_deg) / sqrt(2.0 * log(ratio));
+        else    /* a user geometry the 5" span does not fit: edge at 3 sigma */
+            g->sigma_deg = (g->e_edge_deg - g->e_full_deg) / 3.0;
     }
+    g->level_edge = (float)(0.5 * log2(1.0 / g->rho_min));
     g->r_zero_px = gaze_radius_px(g, g->e_full_deg) * (1.0 - 1e-9);
     g->r_max_px = gaze_radius_px(g, g->e_edge_deg) * (1.0 + 1e-9);
     return PP5_OK;
@@ -101,7 +101,7 @@ float gaze_level(const gaze_model_t *g, double r_px)
     if (r_px <= g->r_zero_px)
         return 0.0f;
     if (r_px >= g->r_max_px)
-        return (float)g->max_level;
+        return g->level_edge;
     double rho = gaze_target_rays_per_px(g, gaze_eccentricity_deg(g, r_px));
     double level = 0.5 * log2(1.0 / rho);
     if (level < 0.0)
@@ -181,6 +181,22 @@ void mip2d_mark_pixel(mip2d_t *m, int x, int y, float level)
     mark_level(m, lo, x, y);
     if (level > (float)lo && lo + 1 < m->levels)
         mark_level(m, lo + 1, x, y);
+}
+
+bool mip2d_mark_row(mip2d_t *m, int y, const float *levels, int width)
+{
+    bool full = true;
+    for (int x = 0; x < width; x++) {
+        float level = levels[x];
+        if (level == 0.0f) {
+            /* Level 0 lands exactly on its own texel. */
+            m->need[0][(size_t)y * m->w[0] + x] = 1;
+            continue;
+        }
+        full = false;
+        mip2d_mark_pixel(m, x, y, level);
+    }
+    return full;
 }
 
 static void bilerp(const mip2d_t *m, int l, int x, int y, float rgb[3])

@@ -21,7 +21,9 @@
  * 5 inches in diameter", i.e. 2DLevel = 1 at a 2.5" radius:
  * sigma = (e_5 - e_full) / sqrt(2 ln((1 - rho_min) / (1/4 - rho_min))).
  * With the defaults the level-1 span is the annulus between the 4.2" and the
- * 7.0" circles and level 2 lies beyond 5", the spans of figure 5.
+ * 7.0" circles and level 2 lies beyond 5", the spans of figure 5.  When a
+ * user geometry puts the 5" circle outside the falloff annulus, sigma is a
+ * third of the annulus width instead.
  *
  * 2D mip map.  Level m holds rays cast through the centres of pixels
  * (i 2^m, j 2^m): texel (i, j) lies at image point (i 2^m + 0.5, j 2^m + 0.5).
@@ -63,6 +65,7 @@ typedef struct {
      * 1e-9 relative margin: lets gaze_level skip the transcendental functions
      * for most pixels without changing any result. */
     double r_zero_px, r_max_px;
+    float level_edge;            /* 2DLevel beyond the periphery circle: log4(1 / rho_min) */
     bool fits_monitor;           /* image fits on the stated monitor */
 } gaze_model_t;
 
@@ -100,6 +103,9 @@ static inline void mip2d_texel_point(int m, int i, int j, float *px, float *py)
 /* Marks the texels pixel (x, y) needs at 2D level `level` (floor and ceil
  * levels, corners with non-zero weight). */
 void mip2d_mark_pixel(mip2d_t *m, int x, int y, float level);
+/* mip2d_mark_pixel for pixels (0..width-1, y) with levels[x]; returns false
+ * if any level is above 0 (so true means the row is at full resolution). */
+bool mip2d_mark_row(mip2d_t *m, int y, const float *levels, int width);
 /* RenderPixel's interpolation: colour of pixel (x, y) at `level` from cast
  * texels (all needed texels must have been cast). */
 void mip2d_pixel(const mip2d_t *m, int x, int y, float level, float rgb[3]);

@@ -59,7 +59,16 @@ void mip3d_free(mip3d_t *m);
 /* Level-n coordinate of a level-0 voxel coordinate p: (p + 0.5) / 2^n - 0.5. */
 static inline float mip3d_level_coord(float p, int n)
 {
-    return (p + 0.5f) / (float)(1 << n) - 0.5f;
+    /* Multiplying by 2^-n is exact, so this equals dividing by 2^n. */
+    return (p + 0.5f) * (1.0f / (float)(1 << n)) - 0.5f;
+}
+
+/* floor() of a float known to lie well inside the int range, without a libm
+ * call: truncate, then step down for negative non-integers. */
+static inline int mip3d_floor_int(float x)
+{
+    int i = (int)x;
+    return (float)i > x ? i - 1 : i;
 }
 
 /* Trilinear interpolation of the `stride` components of level n at level-n
@@ -68,9 +77,8 @@ static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, floa
                                  float *out)
 {
     const mip3d_level_t *L = &m->level[n];
-    float fx = floorf(x), fy = floorf(y), fz = floorf(z);
-    float wx = x - fx, wy = y - fy, wz = z - fz;
-    int x0 = (int)fx, y0 = (int)fy, z0 = (int)fz;
+    int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
+    float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
     int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
     x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
     x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);

@@ -1,6 +1,8 @@
 /* octree.c: occupancy cell grids (dilated opacity) and their OR pyramids. */
 #include "octree.h"
 
+#include "parallel.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,23 +14,37 @@
 #define OCTREE_EXACT_LO 0
 #define OCTREE_EXACT_HI 1
 
-static void dilate_line(const uint8_t *in, uint8_t *out, int n, size_t stride, int lo, int hi)
+/* The same dilation across whole rows or slices: block i of `size` bytes
+ * becomes the OR of blocks [i-lo, i+hi]; contiguous, so it vectorises. */
+static void dilate_blocks(const uint8_t *in, uint8_t *out, int n, size_t size, int lo, int hi)
 {
     for (int i = 0; i < n; i++) {
-        int a = i - lo, b = i + hi;
-        if (a < 0)
-            a = 0;
-        if (b > n - 1)
-            b = n - 1;
-        uint8_t v = 0;
-        for (int j = a; j <= b && !v; j++)
-            v = in[(size_t)j * stride];
-        out[(size_t)i * stride] = v;
+        int a = i - lo < 0 ? 0 : i - lo, b = i + hi > n - 1 ? n - 1 : i + hi;
+        uint8_t *o = out + (size_t)i * size;
+        memcpy(o, in + (size_t)a * size, size);
+        for (int j = a + 1; j <= b; j++) {
+            const uint8_t *src = in + (size_t)j * size;
+            for (size_t k = 0; k < size; k++)
+                o[k] |= src[k];
+        }
     }
+}
+
+static void dilate_line(const uint8_t *in, uint8_t *out, int n, int lo, int hi)
+{
+    /* out[i] = OR of in[i-lo .. i+hi], as shifted whole-row ORs (vectorise). */
+    memcpy(out, in, (size_t)n);
+    for (int s = 1; s <= hi && s < n; s++)
+        for (int i = 0; i < n - s; i++)
+            out[i] |= in[i + s];
+    for (int s = 1; s <= lo && s < n; s++)
+        for (int i = s; i < n; i++)
+            out[i] |= in[i - s];
 }
 
 static void grid_free(octree_grid_t *g)
 {
+    free(g->empty_height);
     for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
         free(g->occupied[h]);
     memset(g, 0, sizeof *g);
@@ -41,6 +57,73 @@ void octree_free(octree_t *o)
         grid_free(&o->exact[n]);
     }
     memset(o, 0, sizeof *o);
+}
+
+/* Per cell: -1 if occupied, else the height of its largest empty ancestor
+ * (the node a top-down descent stops at), so a query is one lookup. */
+static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
+{
+    int nx = g->nx[0], ny = g->ny[0], nz = g->nz[0];
+    size_t count = (size_t)nx * ny * nz;
+    /* Top-down: a node inherits its parent's answer when the parent lies in
+     * an empty subtree, else it is its own height (empty) or -1. */
+    int8_t *level[OCTREE_MAX_HEIGHT] = {0};
+    int top = g->heights - 1;
+    pp5_status_t st = PP5_OK;
+    for (int h = top; h >= 0 && st == PP5_OK; h--) {
+        int cx = g->nx[h], cy = g->ny[h], cz = g->nz[h];
+        int8_t *e = malloc((size_t)cx * cy * cz);
+        if (!e) {
+            st = pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
+            break;
+        }
+        level[h] = e;
+        const uint8_t *occ = g->occupied[h];
+        const int8_t *up = h < top ? level[h + 1] : NULL;
+        for (int z = 0; z < cz; z++)
+            for (int y = 0; y < cy; y++) {
+                size_t row = ((size_t)z * cy + y) * cx;
+                const int8_t *uprow = up ? up + ((size_t)(z >> 1) * g->ny[h + 1] + (size_t)(y >> 1)) *
+                                                    g->nx[h + 1]
+                                         : NULL;
+                for (int x = 0; x < cx; x++) {
+                    int8_t v = uprow ? uprow[x >> 1] : -1;
+                    e[row + x] = v >= 0 ? v : (occ[row + x] ? -1 : (int8_t)h);
+                }
+            }
+    }
+    for (int h = 1; h <= top; h++)
+        free(level[h]);
+    if (st != PP5_OK) {
+        free(level[0]);
+        return st;
+    }
+    int8_t *e = level[0];
+    g->empty_height = e;
+    *bytes += count;
+    /* Bounding box of the occupied cells (see octree.h). */
+    int lo[3] = {nx, ny, nz}, hi[3] = {-1, -1, -1};
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++)
+            for (int x = 0; x < nx; x++) {
+                if (e[((size_t)z * ny + y) * nx + x] >= 0)
+                    continue;
+                int c[3] = {x, y, z};
+                for (int a = 0; a < 3; a++) {
+                    if (c[a] < lo[a])
+                        lo[a] = c[a];
+                    if (c[a] > hi[a])
+                        hi[a] = c[a];
+                }
+            }
+    g->any_occupied = hi[0] >= 0;
+    int dims[3] = {nx, ny, nz};
+    float scale = (float)(1 << g->level);
+    for (int a = 0; a < 3 && g->any_occupied; a++) {
+        g->box_lo[a] = lo[a] == 0 ? -INFINITY : ((float)lo[a] + 0.5f) * scale - 0.5f;
+        g->box_hi[a] = hi[a] + 1 >= dims[a] ? INFINITY : ((float)(hi[a] + 1) + 0.5f) * scale - 0.5f;
+    }
+    return PP5_OK;
 }
 
 static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int stride,
@@ -60,18 +143,13 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
     for (int z = 0; z < nz; z++)
         for (int y = 0; y < ny; y++) {
             size_t base = ((size_t)z * ny + y) * nx;
-            dilate_line(a + base, b + base, nx, 1, lo, hi);
+            dilate_line(a + base, b + base, nx, lo, hi);
         }
-    for (int z = 0; z < nz; z++)
-        for (int x = 0; x < nx; x++) {
-            size_t base = (size_t)z * ny * nx + x;
-            dilate_line(b + base, a + base, ny, (size_t)nx, lo, hi);
-        }
-    for (int y = 0; y < ny; y++)
-        for (int x = 0; x < nx; x++) {
-            size_t base = (size_t)y * nx + x;
-            dilate_line(a + base, b + base, nz, (size_t)nx * ny, lo, hi);
-        }
+    for (int z = 0; z < nz; z++) {
+        size_t base = (size_t)z * ny * nx;
+        dilate_blocks(b + base, a + base, ny, (size_t)nx, lo, hi);
+    }
+    dilate_blocks(a, b, nz, (size_t)nx * ny, lo, hi);
     free(a);
     g->occupied[0] = b;
     g->nx[0] = nx;
@@ -101,56 +179,47 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
         g->heights = h + 1;
         *bytes += c;
     }
-    return PP5_OK;
+    return empty_height_build(g, bytes);
+}
+
+typedef struct {
+    octree_t *o;
+    const mip3d_t *m;
+    pp5_status_t status[2 * MIP3D_MAX_LEVELS];
+    size_t bytes[2 * MIP3D_MAX_LEVELS];
+} octree_job_t;
+
+/* Item 2n builds the blend grid of level n, item 2n+1 its exact grid. */
+static void octree_build_item(void *ctx, int item, int thread)
+{
+    (void)thread;
+    octree_job_t *job = ctx;
+    int n = item / 2;
+    bool exact = item % 2;
+    octree_grid_t *g = exact ? &job->o->exact[n] : &job->o->grid[n];
+    g->level = n;
+    job->status[item] = grid_build(g, &job->m->level[n], job->m->stride,
+                                   exact ? OCTREE_EXACT_LO : OCTREE_BLEND_LO,
+                                   exact ? OCTREE_EXACT_HI : OCTREE_BLEND_HI, &job->bytes[item]);
 }
 
 pp5_status_t octree_build(octree_t *o, const mip3d_t *m, int threads)
 {
-    (void)threads;
     memset(o, 0, sizeof *o);
-    for (int n = 0; n < m->levels; n++) {
-        pp5_status_t st = grid_build(&o->grid[n], &m->level[n], m->stride, OCTREE_BLEND_LO,
-                                     OCTREE_BLEND_HI, &o->bytes);
-        if (st == PP5_OK)
-            st = grid_build(&o->exact[n], &m->level[n], m->stride, OCTREE_EXACT_LO,
-                            OCTREE_EXACT_HI, &o->bytes);
-        o->mip_levels = n + 1;
-        if (st != PP5_OK) {
-            octree_free(o);
-            return st;
-        }
+    octree_job_t *job = calloc(1, sizeof *job);
+    if (!job)
+        return pp5_fail(PP5_E_NOMEM, "octree: out of memory");
+    job->o = o;
+    job->m = m;
+    o->mip_levels = m->levels;
+    pp5_status_t st = parallel_for(threads, 2 * m->levels, octree_build_item, job);
+    for (int i = 0; i < 2 * m->levels; i++) {
+        o->bytes += job->bytes[i];
+        if (st == PP5_OK && job->status[i] != PP5_OK)
+            st = pp5_fail(job->status[i], "octree: cannot allocate the occupancy grids");
     }
-    return PP5_OK;
-}
-
-int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
-                      float hi[3])
-{
-    if (n >= o->mip_levels)
-        n = o->mip_levels - 1;
-    const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
-    int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
-    for (int a = 0; a < 3; a++) {
-        float q = mip3d_level_coord(p[a], n);
-        float f = floorf(q);
-        int i = f < 0.0f ? 0 : (f >= (float)dims[a] ? dims[a] - 1 : (int)f);
-        c[a] = i;
-    }
-    if (g->occupied[0][((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]])
-        return -1;
-    int h = 0;
-    while (h + 1 < g->heights) {
-        int x = c[0] >> (h + 1), y = c[1] >> (h + 1), z = c[2] >> (h + 1);
-        if (g->occupied[h + 1][((size_t)z * g->ny[h + 1] + y) * g->nx[h + 1] + x])
-            break;
-        h++;
-    }
-    float scale = (float)(1 << n);
-    for (int a = 0; a < 3; a++) {
-        int first = (c[a] >> h) << h;
-        int last = first + (1 << h);      /* exclusive, in level-n cell units */
-        lo[a] = first == 0 ? -INFINITY : ((float)first + 0.5f) * scale - 0.5f;
-        hi[a] = last >= dims[a] ? INFINITY : ((float)last + 0.5f) * scale - 0.5f;
-    }
-    return h;
+    free(job);
+    if (st != PP5_OK)
+        octree_free(o);
+    return st;
 }

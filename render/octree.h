@@ -17,23 +17,30 @@
  *
  * Per sample the ray tracer asks for the largest empty node containing the
  * sample's cell.  The answer is the one the paper's top-down descent finds
- * (the first empty node on the path from the root), computed bottom-up
- * because most queries hit an occupied leaf and stop after one lookup.  The
+ * (the first empty node on the path from the root), precomputed per cell
+ * at build time (empty_height) so that each query is a single lookup.  The
  * ray then jumps to its first sample beyond that node; since skipped samples
  * are exactly zero the image is bit-identical to a run without skipping. */
 #ifndef PP5_OCTREE_H
 #define PP5_OCTREE_H
 
 #include <stdbool.h>
+#include <math.h>
 #include <stdint.h>
 #include "mip3d.h"
 
 #define OCTREE_MAX_HEIGHT 16
 
 typedef struct {
+    int level;                         /* the mip level n whose samples this grid serves */
     int heights;                       /* number of pyramid levels over this cell grid */
     int nx[OCTREE_MAX_HEIGHT], ny[OCTREE_MAX_HEIGHT], nz[OCTREE_MAX_HEIGHT];
     uint8_t *occupied[OCTREE_MAX_HEIGHT]; /* 1 = may hold a non-zero sample */
+    int8_t *empty_height;              /* per cell: -1 occupied, else largest empty ancestor */
+    /* Extent of the occupied cells in level-0 voxel coordinates (+-INFINITY
+     * where it reaches a clamped face); any_occupied false: all empty. */
+    bool any_occupied;
+    float box_lo[3], box_hi[3];
 } octree_grid_t;
 
 typedef struct {
@@ -52,7 +59,28 @@ void octree_free(octree_t *o);
  * the largest empty node containing it, with the node's extent in level-0
  * voxel coordinates in lo/hi (+-INFINITY on faces that extend to the edge of
  * the clamped grid). */
-int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3], float lo[3],
-                      float hi[3]);
+static inline int octree_empty_node(const octree_t *o, int n, bool exact, const float p[3],
+                                    float lo[3], float hi[3])
+{
+    if (n >= o->mip_levels)
+        n = o->mip_levels - 1;
+    const octree_grid_t *g = exact ? &o->exact[n] : &o->grid[n];
+    int c[3], dims[3] = {g->nx[0], g->ny[0], g->nz[0]};
+    for (int a = 0; a < 3; a++) {
+        int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
+        c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
+    }
+    int h = g->empty_height[((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]];
+    if (h < 0)
+        return -1;
+    float scale = (float)(1 << n);
+    for (int a = 0; a < 3; a++) {
+        int first = (c[a] >> h) << h;
+        int last = first + (1 << h);      /* exclusive, in level-n cell units */
+        lo[a] = first == 0 ? -INFINITY : ((float)first + 0.5f) * scale - 0.5f;
+        hi[a] = last >= dims[a] ? INFINITY : ((float)last + 0.5f) * scale - 0.5f;
+    }
+    return h;
+}
 
 #endif

@@ -175,8 +175,8 @@ static bool clip_box(const float o[3], const float d[3], const float hi[3], floa
 
 /* Viewpoint-dependent shading of one sample's components: writes the
  * opacity-weighted colour and returns the opacity. */
-static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float view[3],
-                                 const float half[3], float c[3])
+static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float half[3],
+                                 float c[3])
 {
     float a = s[MIP3D_A];
     c[0] = s[MIP3D_R];
@@ -194,7 +194,6 @@ static inline float shade_sample(const raycast_ctx_t *r, const float *s, const f
         for (int k = 0; k < 3; k++)
             c[k] *= d;
     }
-    (void)view;
     if (len > 0.0f) {
         float sp = a * shade_specular(r->shade, n, half);
         for (int k = 0; k < 3; k++)
@@ -203,119 +202,224 @@ static inline float shade_sample(const raycast_ctx_t *r, const float *s, const f
     return a;
 }
 
-void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
-                   raycast_counts_t *counts)
+/* One ray's marching state, so that several rays can advance in turns (their
+ * dependency chains then overlap in the CPU) with exactly the arithmetic a
+ * lone ray would do. */
+typedef struct {
+    float ov[3], dv[3], inv_dv[3], half[3];
+    float t0, t1, t, base, inv_base, growth, spacing, level3d, top;
+    long k;
+    int level2d;
+    bool perspective;
+    float acc[3], acc_a;
+    uint64_t n_samples, n_skipped;
+} ray_state_t;
+
+/* Sets the ray up; false if it misses the volume or everything it could
+ * sample is empty (its colour is then black). */
+static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int level2d,
+                             ray_state_t *s)
 {
     const camera_t *cam = r->camera;
-    float o[3], d[3], t0, t1;
-    rgb[0] = rgb[1] = rgb[2] = 0.0f;
-    counts->rays++;
-    /* Local tallies: threads' counters may share a cache line. */
-    uint64_t n_samples = 0, n_skipped = 0;
+    float o[3], d[3];
+    s->acc[0] = s->acc[1] = s->acc[2] = 0.0f;
+    s->acc_a = 0.0f;
+    s->n_samples = s->n_skipped = 0;
+    s->level2d = level2d;
     camera_ray(cam, px, py, o, d);
-    if (!clip_box(o, d, cam->box_hi, &t0, &t1))
-        return;
+    if (!clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
+        return false;
     /* Level-0 voxel coordinates along the ray: ov + t * dv. */
-    float ov[3], dv[3];
-    for (int k = 0; k < 3; k++) {
-        ov[k] = o[k] * cam->inv_spacing[k];
-        dv[k] = d[k] * cam->inv_spacing[k];
+    for (int a = 0; a < 3; a++) {
+        s->ov[a] = o[a] * cam->inv_spacing[a];
+        s->dv[a] = d[a] * cam->inv_spacing[a];
+        s->inv_dv[a] = s->dv[a] != 0.0f ? 1.0f / s->dv[a] : 0.0f;
     }
-    float view[3] = {-d[0], -d[1], -d[2]}, half[3];
-    shade_half_vector(r->light_obj, view, half);
-    const bool perspective = cam->projection == PROJECTION_PERSPECTIVE;
-    const float base = r->sample_step * (float)(1 << level2d);
+    float view[3] = {-d[0], -d[1], -d[2]};
+    shade_half_vector(r->light_obj, view, s->half);
+    s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
+    s->base = r->sample_step * (float)(1 << level2d);
+    s->inv_base = 1.0f / s->base;
     /* Parallel: spacing `base` everywhere.  Perspective: spacing proportional
      * to the distance t from the eye, equal to `base` at the volume centre, so
      * t_{k+1} = t_k * growth. */
-    const float growth = 1.0f + base / cam->eye_distance;
-    const float top = (float)(r->mip->levels - 1);
-    float acc[3] = {0.0f, 0.0f, 0.0f}, acc_a = 0.0f;
-    float comp[8];
-    long k = 0;
-    float t = t0;
-    if (perspective && t < 1e-3f)
-        t = 1e-3f;
+    s->growth = 1.0f + s->base / cam->eye_distance;
+    s->top = (float)(r->mip->levels - 1);
+    s->k = 0;
+    s->t = s->t0;
+    if (s->perspective && s->t < 1e-3f)
+        s->t = 1e-3f;
     /* Parallel: spacing and 3DLevel are constant along the ray. */
-    float spacing = base;
-    float level3d = log2f(spacing) - r->level3d_offset;
-    level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
-    while (t <= t1) {
-        if (perspective) {
-            spacing = t * (growth - 1.0f);
-            level3d = log2f(spacing) - r->level3d_offset;
-            level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+    s->spacing = s->base;
+    s->level3d = log2f(s->spacing) - r->level3d_offset;
+    s->level3d = s->level3d < 0.0f ? 0.0f : (s->level3d > s->top ? s->top : s->level3d);
+    if (r->octree && !s->perspective) {
+        /* Parallel rays sample one level: start and stop at the occupied
+         * cells' bounding box of that level's grid, on the same sample
+         * lattice (samples outside it are exactly zero). */
+        int n = (int)s->level3d;
+        const octree_grid_t *g = s->level3d == (float)n ? &r->octree->exact[n]
+                                                        : &r->octree->grid[n];
+        if (!g->any_occupied) {
+            s->n_skipped += (uint64_t)((s->t1 - s->t0) / s->base) + 1;
+            return false;
         }
-        float p[3] = {ov[0] + t * dv[0], ov[1] + t * dv[1], ov[2] + t * dv[2]};
-        if (r->octree) {
-            float lo[3], hi[3];
-            int n = (int)level3d;
-            if (octree_empty_node(r->octree, n, level3d == (float)n, p, lo, hi) >= 0) {
-                float t_exit = INFINITY;
-                for (int a = 0; a < 3; a++) {
-                    float te = INFINITY;
-                    if (dv[a] > 0.0f && isfinite(hi[a]))
-                        te = (hi[a] - ov[a]) / dv[a];
-                    else if (dv[a] < 0.0f && isfinite(lo[a]))
-                        te = (lo[a] - ov[a]) / dv[a];
-                    if (te < t_exit)
-                        t_exit = te;
-                }
-                /* Stay a hair inside the node so rounding never skips a
-                 * sample that lands in the neighbouring cell. */
-                if (!(t_exit <= t1))
-                    break;        /* empty all the way out of the volume */
-                t_exit -= 1e-3f;
-                if (perspective) {
-                    /* The floor level must not change inside the jump. */
-                    float t_level = exp2f((float)(n + 1) + r->level3d_offset) /
-                                    (growth - 1.0f);
-                    if (n + 1 <= (int)top && t_level < t_exit)
-                        t_exit = t_level;
-                    do {
-                        t *= growth;
-                        n_skipped++;
-                    } while (t < t_exit && t <= t1);
-                } else {
-                    long k_new = (long)ceilf((t_exit - t0) / base);
-                    if (k_new <= k)
-                        k_new = k + 1;
-                    n_skipped += (uint64_t)(k_new - k);
-                    k = k_new;
-                    t = t0 + (float)k * base;
-                }
+        float a = -INFINITY, b = INFINITY;
+        for (int ax = 0; ax < 3; ax++) {
+            if (s->dv[ax] == 0.0f)
                 continue;
+            float ta = (g->box_lo[ax] - s->ov[ax]) * s->inv_dv[ax];
+            float tb = (g->box_hi[ax] - s->ov[ax]) * s->inv_dv[ax];
+            if (ta > tb) {
+                float sw = ta;
+                ta = tb;
+                tb = sw;
             }
+            a = fmaxf(a, ta);
+            b = fminf(b, tb);
         }
-        mip3d_sample(r->mip, level3d, p, comp);
-        n_samples++;
-        float c[3];
-        float a = shade_sample(r, comp, view, half, c);
-        if (a > 0.0f) {
-            if (spacing != 1.0f) {
-                /* Opacity per unit length is fixed; a sample standing for
-                 * `spacing` units has opacity 1 - (1 - a)^spacing. */
-                float ac = correct_alpha(r, level2d, perspective, spacing, a);
-                float scale = ac / a;
-                c[0] *= scale;
-                c[1] *= scale;
-                c[2] *= scale;
-                a = ac;
+        /* Margins of 1e-3 keep rounding from dropping a boundary sample. */
+        if (a - 1e-3f > s->t0) {
+            s->k = -(long)mip3d_floor_int(-(a - 1e-3f - s->t0) / s->base);
+            s->t = s->t0 + (float)s->k * s->base;
+            s->n_skipped += (uint64_t)s->k;
+        }
+        if (b + 1e-3f < s->t1)
+            s->t1 = b + 1e-3f;
+    }
+    return true;
+}
+
+/* Advances the ray to its next sample position (octree jump) or draws,
+ * shades and composites one sample; false when the ray is finished. */
+static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
+{
+    if (!(s->t <= s->t1))
+        return false;
+    if (s->perspective) {
+        s->spacing = s->t * (s->growth - 1.0f);
+        s->level3d = log2f(s->spacing) - r->level3d_offset;
+        s->level3d = s->level3d < 0.0f ? 0.0f : (s->level3d > s->top ? s->top : s->level3d);
+    }
+    const float t = s->t;
+    float p[3] = {s->ov[0] + t * s->dv[0], s->ov[1] + t * s->dv[1], s->ov[2] + t * s->dv[2]};
+    if (r->octree) {
+        float lo[3], hi[3];
+        int n = (int)s->level3d;
+        int height = octree_empty_node(r->octree, n, s->level3d == (float)n, p, lo, hi);
+        if (height == 0 && !s->perspective) {
+            /* A single empty cell: this sample is zero; stepping over it
+             * is cheaper than computing the cell's exit. */
+            s->n_skipped++;
+            s->k++;
+            s->t = s->t0 + (float)s->k * s->base;
+            return true;
+        }
+        if (height >= 0) {
+            float t_exit = INFINITY;
+            for (int a = 0; a < 3; a++) {
+                float te = INFINITY;
+                if (s->dv[a] > 0.0f && isfinite(hi[a]))
+                    te = (hi[a] - s->ov[a]) * s->inv_dv[a];
+                else if (s->dv[a] < 0.0f && isfinite(lo[a]))
+                    te = (lo[a] - s->ov[a]) * s->inv_dv[a];
+                if (te < t_exit)
+                    t_exit = te;
             }
-            raycast_composite(acc, &acc_a, c, a);
-            if (acc_a >= r->early_termination)
-                break;
-        }
-        if (perspective) {
-            t *= growth;
-        } else {
-            k++;
-            t = t0 + (float)k * base;
+            if (!(t_exit <= s->t1))
+                return false;     /* empty all the way out of the volume */
+            /* Stay a hair inside the node so rounding never skips a
+             * sample that lands in the neighbouring cell. */
+            t_exit -= 1e-3f;
+            if (s->perspective) {
+                /* The floor level must not change inside the jump. */
+                float t_level = exp2f((float)(n + 1) + r->level3d_offset) / (s->growth - 1.0f);
+                if (n + 1 <= (int)s->top && t_level < t_exit)
+                    t_exit = t_level;
+                do {
+                    s->t *= s->growth;
+                    s->n_skipped++;
+                } while (s->t < t_exit && s->t <= s->t1);
+            } else {
+                /* ceil; a multiply instead of a divide: the 1e-3 margin
+                 * above dwarfs its rounding. */
+                long k_new = -(long)mip3d_floor_int(-(t_exit - s->t0) * s->inv_base);
+                if (k_new <= s->k)
+                    k_new = s->k + 1;
+                s->n_skipped += (uint64_t)(k_new - s->k);
+                s->k = k_new;
+                s->t = s->t0 + (float)s->k * s->base;
+            }
+            return true;
         }
     }
-    counts->samples += n_samples;
-    counts->samples_skipped += n_skipped;
-    rgb[0] = acc[0];
-    rgb[1] = acc[1];
-    rgb[2] = acc[2];
+    float comp[8];
+    mip3d_sample(r->mip, s->level3d, p, comp);
+    s->n_samples++;
+    float c[3];
+    float a = shade_sample(r, comp, s->half, c);
+    if (a > 0.0f) {
+        if (s->spacing != 1.0f) {
+            /* Opacity per unit length is fixed; a sample standing for
+             * `spacing` units has opacity 1 - (1 - a)^spacing. */
+            float ac = correct_alpha(r, s->level2d, s->perspective, s->spacing, a);
+            float scale = ac / a;
+            c[0] *= scale;
+            c[1] *= scale;
+            c[2] *= scale;
+            a = ac;
+        }
+        raycast_composite(s->acc, &s->acc_a, c, a);
+        if (s->acc_a >= r->early_termination)
+            return false;
+    }
+    if (s->perspective) {
+        s->t *= s->growth;
+    } else {
+        s->k++;
+        s->t = s->t0 + (float)s->k * s->base;
+    }
+    return true;
+}
+
+static inline void ray_end(const ray_state_t *s, float rgb[3], raycast_counts_t *counts)
+{
+    counts->rays++;
+    counts->samples += s->n_samples;
+    counts->samples_skipped += s->n_skipped;
+    rgb[0] = s->acc[0];
+    rgb[1] = s->acc[1];
+    rgb[2] = s->acc[2];
+}
+
+void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
+                   raycast_counts_t *counts)
+{
+    ray_state_t s;
+    if (ray_begin(r, px, py, level2d, &s))
+        while (ray_step(r, &s))
+            ;
+    ray_end(&s, rgb, counts);
+}
+
+void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                         int level2d, float (*rgb)[3], raycast_counts_t *counts)
+{
+    ray_state_t s[RAYCAST_BATCH];
+    bool live[RAYCAST_BATCH];
+    int remaining = 0;
+    if (count > RAYCAST_BATCH)
+        count = RAYCAST_BATCH;
+    for (int i = 0; i < count; i++) {
+        live[i] = ray_begin(r, px[i], py[i], level2d, &s[i]);
+        remaining += live[i];
+    }
+    while (remaining > 0)
+        for (int i = 0; i < count; i++)
+            if (live[i] && !ray_step(r, &s[i])) {
+                live[i] = false;
+                remaining--;
+            }
+    for (int i = 0; i < count; i++)
+        ray_end(&s[i], rgb[i], counts);
 }

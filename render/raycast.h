@@ -96,6 +96,13 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
 void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
                    raycast_counts_t *counts);
 
+/* The same for `count` (<= RAYCAST_BATCH) rays of one 2D level, advanced in
+ * turns so that their latency chains overlap; each result is bit-identical to
+ * raycast_trace's. */
+#define RAYCAST_BATCH 8
+void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                         int level2d, float (*rgb)[3], raycast_counts_t *counts);
+
 /* Front-to-back compositing of one opacity-weighted sample (c = a*colour). */
 static inline void raycast_composite(float acc_rgb[3], float *acc_a, const float c[3], float a)
 {

@@ -37,17 +37,26 @@ pp5_status_t render_write_fig5(const gaze_model_t *g, const char *path)
     }
     plot_t p;
     plot_init(&p, "Sweet spot (fig. 5)",
-              "distance from gaze point (inches on screen)", "rays per pixel");
-    pp5_status_t st = plot_add_series(&p, "target (Gaussian)", xs, target, N);
+              "distance from gaze (inches on screen)",
+              "rays per pixel");
+    pp5_status_t st = plot_add_series(&p, "target", xs, target, N);
     if (st == PP5_OK)
-        st = plot_add_series(&p, "finer level used (floor 2DLevel)", xs, lo, N);
+        st = plot_add_series(&p, "floor(2DLevel)", xs, lo, N);
     if (st == PP5_OK)
-        st = plot_add_series(&p, "coarser level used (ceil 2DLevel)", xs, hi, N);
+        st = plot_add_series(&p, "ceil(2DLevel)", xs, hi, N);
+    /* The paper's circles (diameters): 12 degrees (4.2") and 20 degrees (7"). */
+    char label[64];
+    snprintf(label, sizeof label, "12deg");
+    if (st == PP5_OK)
+        st = plot_add_xref(&p, gaze_radius_px(g, g->e_full_deg) * g->inches_per_px, label);
+    snprintf(label, sizeof label, "20deg");
+    if (st == PP5_OK)
+        st = plot_add_xref(&p, gaze_radius_px(g, g->e_edge_deg) * g->inches_per_px, label);
     if (st == PP5_OK) {
         plot_set_style(&p, 1, PLOT_STEPS);
         plot_set_style(&p, 2, PLOT_STEPS);
         plot_set_yrange(&p, 0.0, 1.1);
-        st = plot_write_png(&p, path, 900, 540);
+        st = plot_write_png(&p, path, 1000, 560);
     }
     plot_free(&p);
     return st;
@@ -136,6 +145,12 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
     if (!c->have_gaze) {
         s.gaze_x = 0.5 * (s.width - 1);
         s.gaze_y = 0.5 * (s.height - 1);
+    }
+    gaze_model_t check;       /* refuse a bad display before the costly build */
+    st = gaze_model_init(&check, &s.display, s.width, s.height);
+    if (st != PP5_OK) {
+        scene_free(&sc);
+        return st;
     }
     native_renderer_t r;
     st = native_renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);

@@ -82,10 +82,14 @@ static bool same_view(const render_settings_t *a, const render_settings_t *b)
            memcmp(&a->display, &b->display, sizeof a->display) == 0;
 }
 
+#define MARK_MAX_BANDS 1024
+
 typedef struct {
     native_renderer_t *r;
     const render_settings_t *s;
     raycast_ctx_t ray;
+    int band_rows, bands, band_parity;
+    bool band_full[MARK_MAX_BANDS];
     double gaze_scale;            /* eccentricity divisor for progressive growth */
     image8_t *out;
     int rows_total;               /* texel rows over all levels */
@@ -116,6 +120,24 @@ static void job_levels_row(void *ctx, int y, int thread)
     }
 }
 
+/* Marks the texels needed by band 2*item + parity. */
+static void job_mark_band(void *ctx, int item, int thread)
+{
+    (void)thread;
+    frame_job_t *job = ctx;
+    native_renderer_t *r = job->r;
+    int band = 2 * item + job->band_parity;
+    int y0 = band * job->band_rows, y1 = y0 + job->band_rows;
+    if (y1 > job->s->height)
+        y1 = job->s->height;
+    bool full = true;
+    for (int y = y0; y < y1; y++)
+        if (!mip2d_mark_row(&r->mip2d, y, r->level_best + (size_t)y * job->s->width,
+                            job->s->width))
+            full = false;
+    job->band_full[band] = full;
+}
+
 static void job_cast_row(void *ctx, int item, int thread)
 {
     frame_job_t *job = ctx;
@@ -125,13 +147,27 @@ static void job_cast_row(void *ctx, int item, int thread)
         l++;
     int j = item - job->row_level[l];
     size_t base = (size_t)j * m->w[l];
-    for (int i = 0; i < m->w[l]; i++) {
-        if (!m->need[l][base + i] || m->cast[l][base + i])
-            continue;
-        float px, py;
-        mip2d_texel_point(l, i, j, &px, &py);
-        raycast_trace(&job->ray, px, py, l, m->rgb[l] + (base + i) * 3, &job->counts[thread].c);
-        m->cast[l][base + i] = 1;
+    /* Gather the row's uncast, needed texels and trace them in batches. */
+    float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    int idx[RAYCAST_BATCH], n = 0;
+    for (int i = 0; i <= m->w[l]; i++) {
+        if (i < m->w[l]) {
+            if (!m->need[l][base + i] || m->cast[l][base + i])
+                continue;
+            mip2d_texel_point(l, i, j, &px[n], &py[n]);
+            idx[n++] = i;
+        }
+        if (n == RAYCAST_BATCH || (i == m->w[l] && n > 0)) {
+            raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+            for (int b = 0; b < n; b++) {
+                float *dst = m->rgb[l] + (base + (size_t)idx[b]) * 3;
+                dst[0] = rgb[b][0];
+                dst[1] = rgb[b][1];
+                dst[2] = rgb[b][2];
+                m->cast[l][base + (size_t)idx[b]] = 1;
+            }
+            n = 0;
+        }
     }
 }
 
@@ -219,15 +255,24 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
     double t1 = now_ms();
     st = parallel_for(threads, s->height, job_levels_row, job);
     mip2d_clear_need(&r->mip2d);
-    bool full = true;
-    for (int y = 0; y < s->height; y++) {
-        const float *best = r->level_best + (size_t)y * s->width;
-        for (int x = 0; x < s->width; x++) {
-            mip2d_mark_pixel(&r->mip2d, x, y, best[x]);
-            if (best[x] > 0.0f)
-                full = false;
-        }
+    /* Marking in bands of rows: a band writes texel rows up to and including
+     * the first row of the next band, so even bands run in parallel, then odd
+     * ones (flags are only ever set, so the result is order-independent). */
+    job->band_rows = 16 << (r->mip2d.levels - 1);
+    job->bands = (s->height + job->band_rows - 1) / job->band_rows;
+    /* Heights are at most 16384 and bands at least 16 rows. */
+    PP5_ASSERT(job->bands <= MARK_MAX_BANDS, "too many marking bands");
+    if (st == PP5_OK) {
+        job->band_parity = 0;
+        st = parallel_for(threads, (job->bands + 1) / 2, job_mark_band, job);
     }
+    if (st == PP5_OK) {
+        job->band_parity = 1;
+        st = parallel_for(threads, job->bands / 2, job_mark_band, job);
+    }
+    bool full = true;
+    for (int b = 0; b < job->bands; b++)
+        full = full && job->band_full[b];
     /* Phase 2: cast every needed, not yet cast texel once. */
     double t2 = now_ms();
     job->row_level[0] = 0;

@@ -5,6 +5,7 @@
 #include "harness.h"
 
 #include <errno.h>
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -57,6 +58,20 @@ bool pp5_test_check(bool ok, const char *file, int line, const char *fmt, ...)
         }
     }
     return ok;
+}
+
+bool pp5_test_check_eq(long long a, long long b, const char *sa, const char *sb,
+                       const char *file, int line)
+{
+    return pp5_test_check(a == b, file, line, "%s == %s (%lld vs %lld)", sa, sb, a, b);
+}
+
+bool pp5_test_check_near(double a, double b, double tol, const char *sa, const char *sb,
+                         const char *file, int line)
+{
+    /* NaN on either side fails: fabs(NaN) <= tol is false. */
+    return pp5_test_check(fabs(a - b) <= tol, file, line, "%s ~= %s (%.9g vs %.9g, tol %g)", sa,
+                          sb, a, b, tol);
 }
 
 void pp5_test_abort(void)
@@ -189,8 +204,9 @@ static outcome_t run_one(const test_entry_t *t)
 
 int main(int argc, char **argv)
 {
-    bool list = false;
-    int first_filter = 1;
+    /* volatile: both live across the setjmp below (-Wclobbered under -Werror). */
+    volatile bool list = false;
+    volatile int first_filter = 1;
     if (argc > 1 && strcmp(argv[1], "--list") == 0) {
         list = true;
         first_filter = 2;

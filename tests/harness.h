@@ -38,13 +38,15 @@ void pp5_test_skip(const char *fmt, ...) __attribute__((noreturn, format(printf,
     do { if (!CHECK(cond)) pp5_test_abort(); } while (0)
 #define REQUIRE_MSG(cond, ...)                                                \
     do { if (!CHECK_MSG(cond, __VA_ARGS__)) pp5_test_abort(); } while (0)
-#define CHECK_EQ(a, b)                                                        \
-    pp5_test_check((long long)(a) == (long long)(b), __FILE__, __LINE__,      \
-                   "%s == %s (%lld vs %lld)", #a, #b, (long long)(a), (long long)(b))
-#define CHECK_NEAR(a, b, tol)                                                 \
-    pp5_test_check(fabs((double)(a) - (double)(b)) <= (double)(tol), __FILE__, \
-                   __LINE__, "%s ~= %s (%.9g vs %.9g, tol %g)", #a, #b,         \
-                   (double)(a), (double)(b), (double)(tol))
+/* Each operand is evaluated exactly once (a call with side effects is safe). */
+bool pp5_test_check_eq(long long a, long long b, const char *sa, const char *sb,
+                       const char *file, int line);
+bool pp5_test_check_near(double a, double b, double tol, const char *sa, const char *sb,
+                         const char *file, int line);
+#define CHECK_EQ(a, b) \
+    pp5_test_check_eq((long long)(a), (long long)(b), #a, #b, __FILE__, __LINE__)
+#define CHECK_NEAR(a, b, tol) \
+    pp5_test_check_near((double)(a), (double)(b), (double)(tol), #a, #b, __FILE__, __LINE__)
 #define SKIP(...) pp5_test_skip(__VA_ARGS__)
 
 /* Path of a file under ../shared/data (or $PP5_SHARED_DATA), or NULL when

@@ -51,6 +51,21 @@ TEST(gaze_paper_geometry_12_and_20_degrees)
     CHECK(g43.fits_monitor);
 }
 
+TEST(gaze_level_beyond_periphery_follows_rho_min)
+{
+    /* 1 ray per 8 pixels in the periphery: 2DLevel log4(8) = 1.5 there, so
+     * levels 1 and 2 are blended and the map needs 3 levels. */
+    gaze_display_t d;
+    gaze_display_defaults(&d);
+    d.periphery_rays_per_px = 1.0 / 8.0;
+    gaze_model_t g;
+    REQUIRE(gaze_model_init(&g, &d, 210, 210) == PP5_OK);
+    CHECK_EQ(g.max_level, 2);
+    CHECK_NEAR(gaze_level(&g, 200.0), 1.5, 1e-6);
+    CHECK_NEAR(gaze_level(&g, 56.0), 1.5, 1e-6);
+    CHECK(gaze_level(&g, 0.0) == 0.0f);
+}
+
 TEST(gaze_rejects_bad_display)
 {
     gaze_display_t d;

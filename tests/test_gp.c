@@ -127,7 +127,7 @@ TEST(gp_program_time_comes_from_charged_operations)
     sched_stop_t why;
     pp5_status_t st = machine_run_setup(&m, &why);
     CHECK_EQ(st, PP5_OK);
-    CHECK_EQ(why, SCHED_IDLE);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
     /* 64 iterations x 9 cycles (see the dot-product test); local clock
      * starts when the HOST_LOAD arrives. */
     CHECK_EQ(m.gp[0].busy_cycles, 64 * 9);
@@ -163,7 +163,7 @@ TEST(gp_local_memory_limit_is_a_firmware_error)
     sched_stop_t why;
     pp5_status_t st = machine_run_setup(&m, &why);
     CHECK_EQ(st, PP5_E_FIRMWARE);
-    CHECK_EQ(why, SCHED_FIRMWARE_ERROR);
+    CHECK_EQ(why, SCHED_STOP_FIRMWARE_ERROR);
     CHECK(g_alloc_failed);
     CHECK(strstr(pp5_error_text(), "GP 1") != NULL);
     CHECK(strstr(pp5_error_text(), "gp.local_mem_bytes") != NULL);

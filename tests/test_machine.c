@@ -91,7 +91,7 @@ TEST(machine_test_pattern_matches_native_reference_small)
     sched_stop_t why;
     pp5_status_t st = run_pattern(&m, &p, &why);
     REQUIRE_MSG(st == PP5_OK, "run failed: %s", pp5_error_text());
-    CHECK_EQ(why, SCHED_IDLE);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
     CHECK_EQ(m.fb.blocks_received, 6);
     CHECK_EQ(count_mismatches(&m), 0);
     /* Conservation: every byte sent was delivered, per class. */
@@ -99,18 +99,31 @@ TEST(machine_test_pattern_matches_native_reference_small)
         CHECK_EQ(m.ring.bytes_sent[k], m.ring.bytes_delivered[k]);
     }
     CHECK_EQ(m.ring.bytes_sent[RING_CLASS_PIXELS], 6ull * (128 * 128 * 3 + p.ring_header_bytes));
+    /* Invariant: class shares of the ring add up to the aggregate utilisation. */
+    double sum = 0;
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        sum += stats_ring_class_utilization(&m, k);
+    }
+    CHECK_NEAR(sum, stats_ring_utilization(&m), 1e-12);
+    CHECK(stats_ring_utilization(&m) > 0.0 && stats_ring_utilization(&m) <= 1.0);
     machine_free(&m);
 }
 
 /* Frame-time hand calculation (emu/ARCHITECTURE.md, "Test-pattern frame
- * time"): the frame is bound by shipping the finished regions to the FB.
- * N regions of 128x128x3 bytes + header, each ceil(bytes/width) ring cycles;
- * with C channels some channel carries at least ceil(N/C) of them, so
- *     T >= T_hand = ceil(N / C) x t_pix      (a strict lower bound)
- * and the rest (command streams ~0.4 % of the bytes, the fill before the
- * first region is finished: one region's GP binning + encoding, its command
- * transfer and its renderer instruction cycles, ~50 us, and the last hop
- * latency) stays under 2 % of T_hand for the full 80-region screen. */
+ * time"), from the parameters only:
+ *   ring term:     N regions of 128x128x3 bytes + header, each
+ *                  t_pix = ceil(bytes / channel width) ring cycles; with C
+ *                  channels some channel carries >= ceil(N / C) of them.
+ *   renderer term: none of them can start before some region is finished;
+ *                  every region's stream holds at least the background
+ *                  (EN_ALL + three QEEs: 8 bits with 16 and 16 and 20
+ *                  fraction bits), costed with the PP rows' formula
+ *                  (fill + ceil((fraction + kept bits) / rate), PP_ISA.md),
+ *                  plus the 24-cycle readout of SEND_PIXELS.
+ *   T_hand = ceil(N / C) x t_pix + t_background  is a strict lower bound.
+ * The rest (GP binning/encoding of the first region, command streams ~0.4 %
+ * of the bytes, disc instructions of the first region, hop latency) stays
+ * under 2 % of T_hand for the full 80-region screen. */
 static void check_hand_calculation(const char *preset)
 {
     pp5_params_t p;
@@ -123,7 +136,11 @@ static void check_hand_calculation(const char *preset)
     uint64_t wire = 128 * 128 * 3 + p.ring_header_bytes;
     uint64_t words = (wire + p.ring_width_bits / 8 - 1) / (p.ring_width_bits / 8);
     double t_pix = words / p.ring_clock_hz;
-    double t_hand = (double)((regions + p.ring_channels - 1) / p.ring_channels) * t_pix;
+    uint64_t rate = p.pp.qee_bits_per_cycle;
+    uint64_t bg_cycles = p.pp.enable_op_cycles + 3ull * p.pp.qee_fill_cycles + 2 * ((16 + 8 + rate - 1) / rate) +
+                         (20 + 8 + rate - 1) / rate + 24ull * p.rport_cycles_per_bit;
+    double t_hand = (double)((regions + p.ring_channels - 1) / p.ring_channels) * t_pix +
+                    (double)bg_cycles / p.renderer_clock_hz;
     double t = stats_frame_time_s(&m);
     CHECK_MSG(t >= t_hand, "%s: frame %.9f s below the lower bound %.9f s", preset, t, t_hand);
     CHECK_MSG(t <= t_hand * 1.02, "%s: frame %.9f s more than 2%% above the hand value %.9f s", preset, t, t_hand);
@@ -176,7 +193,7 @@ TEST(machine_budget_exceeded_names_busy_units)
     sched_stop_t why;
     pp5_status_t st = run_pattern(&m, &p, &why);
     CHECK_EQ(st, PP5_E_RANGE);
-    CHECK_EQ(why, SCHED_BUDGET_EXCEEDED);
+    CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "budget") != NULL);
     CHECK(strstr(pp5_error_text(), "renderer") != NULL || strstr(pp5_error_text(), "GP") != NULL ||
           strstr(pp5_error_text(), "ring") != NULL);
@@ -364,7 +381,64 @@ TEST(machine_illegal_instruction_stream_is_a_firmware_error)
     REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
     pp5_status_t st = machine_run_frame(&m, &why);
     CHECK_EQ(st, PP5_E_FIRMWARE);
-    CHECK_EQ(why, SCHED_FIRMWARE_ERROR);
+    CHECK_EQ(why, SCHED_STOP_FIRMWARE_ERROR);
     CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
+    machine_free(&m);
+}
+
+/* Host threads run the renderers' functional steps; nothing may change. */
+TEST(machine_results_identical_for_1_2_and_4_host_threads)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 4;
+    p.n_renderers = 6;
+    p.fb_width = 512;
+    p.fb_height = 384;          /* 12 regions over 6 renderers */
+    machine_t ref;
+    sched_stop_t why;
+    REQUIRE(run_pattern(&ref, &p, &why) == PP5_OK);
+    CHECK_EQ(count_mismatches(&ref), 0);
+    unsigned counts[] = { 2, 4 };
+    for (size_t k = 0; k < 2; k++) {
+        p.sim_host_threads = counts[k];
+        machine_t m;
+        REQUIRE(run_pattern(&m, &p, &why) == PP5_OK);
+        CHECK(m.pool_running);
+        CHECK_EQ(m.frames[0].end_ps - m.frames[0].start_ps, ref.frames[0].end_ps - ref.frames[0].start_ps);
+        CHECK_EQ(m.sched.events_run, ref.sched.events_run);
+        int same = 1;
+        for (unsigned i = 0; i < m.n_rn; i++) {
+            same &= m.rn[i].cycles == ref.rn[i].cycles && m.rn[i].busy_ps == ref.rn[i].busy_ps &&
+                    m.rn[i].r.stats.instructions == ref.rn[i].r.stats.instructions;
+        }
+        for (unsigned c = 0; c < m.ring.n_channels; c++) {
+            same &= m.ring.ch[c].busy_ticks == ref.ring.ch[c].busy_ticks && m.ring.ch[c].bytes == ref.ring.ch[c].bytes;
+        }
+        CHECK_MSG(same, "%u threads: cycle or ring counters differ", counts[k]);
+        CHECK(memcmp(fb_front(&m.fb)->pixels, fb_front(&ref.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
+        machine_free(&m);
+    }
+    machine_free(&ref);
+}
+
+TEST(machine_threaded_firmware_error_stops_cleanly)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 2;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    p.sim_host_threads = 3;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_all(&m, &bad_exec_prog) == PP5_OK);
+    sched_stop_t why;
+    REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
+    pp5_status_t st = machine_run_frame(&m, &why);
+    CHECK_EQ(st, PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "renderer 0") != NULL);
+    CHECK(!m.pool_running);
     machine_free(&m);
 }

@@ -19,7 +19,7 @@ static void build_pattern(mip3d_t *m, int nx, int ny, int nz, int (*on)(int, int
                 v.data[((size_t)z * ny + y) * nx + x] = on(x, y, z) ? 10.0f : 0.0f;
     v.spacing[0] = v.spacing[1] = v.spacing[2] = 1.0;
     /* Width 1e-6: only exact 10s are opaque (neighbours have |g| >= 5). */
-    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1e-6f, {1.0f, 1.0f, 1.0f}}}};
+    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1e-6f, {1.0f, 1.0f, 1.0f}, 0.0f}}};
     shade_params_t sh;
     shade_defaults(&sh);
     REQUIRE(mip3d_build(m, &v, &tf, &sh, 2) == PP5_OK);
@@ -172,4 +172,30 @@ TEST(mip_octree_empty_means_zero_sample)
     CHECK_EQ(outside, 0);
     octree_free(&o);
     mip3d_free(&m);
+}
+
+TEST(mip_classification_by_hand)
+{
+    float rgb[3];
+    /* Levoy 1988 contour: 1 - |v - f| / (r |g|): value 500, r = 2, |g| = 10. */
+    classify_tf_t iso = {.count = 1, .contour = {{500.0f, 1.0f, 2.0f, {1.0f, 0.5f, 0.0f}, 0.0f}}};
+    CHECK_NEAR(classify_voxel(&iso, 510.0f, 10.0f, rgb), 0.5, 1e-6);
+    CHECK_NEAR(rgb[1], 0.5, 1e-6);
+    CHECK_NEAR(classify_voxel(&iso, 520.0f, 10.0f, rgb), 0.0, 1e-7);
+    CHECK_NEAR(classify_voxel(&iso, 500.0f, 0.0f, rgb), 1.0, 1e-7);   /* flat, on the value */
+    CHECK_NEAR(classify_voxel(&iso, 501.0f, 0.0f, rgb), 0.0, 1e-7);   /* flat, off it */
+    /* Two contours combine as layers: the second (520, opacity 0.5) gives
+     * 0.5 * (1 - 10 / 20) = 0.25, so 1 - (1 - 0.5)(1 - 0.25). */
+    classify_tf_t two = {.count = 2, .contour = {{500.0f, 1.0f, 2.0f, {1, 1, 1}, 0.0f},
+                                                 {520.0f, 0.5f, 2.0f, {1, 1, 1}, 0.0f}}};
+    CHECK_NEAR(classify_voxel(&two, 510.0f, 10.0f, rgb), 1.0 - 0.5 * 0.75, 1e-6);
+    /* Value ramp (ct-skin-ramp): 0 at 350, 0.4 at 495, 0.8 from 640 on. */
+    classify_tf_t ramp;
+    REQUIRE(classify_preset("ct-skin-ramp", &ramp) == PP5_OK);
+    CHECK_NEAR(classify_voxel(&ramp, 350.0f, 5.0f, rgb), 0.0, 1e-6);
+    CHECK_NEAR(classify_voxel(&ramp, 495.0f, 5.0f, rgb), 0.4, 1e-6);
+    CHECK_NEAR(classify_voxel(&ramp, 640.0f, 0.0f, rgb), 0.8, 1e-6);
+    CHECK_NEAR(classify_voxel(&ramp, 3000.0f, 99.0f, rgb), 0.8, 1e-6);
+    /* Below the preset's 5% floor: transparent (0.8 * 0.05 / 0.8 of the way). */
+    CHECK_NEAR(classify_voxel(&ramp, 360.0f, 0.0f, rgb), 0.0, 1e-7);
 }

@@ -175,33 +175,56 @@ static void randomize(renderer_t *r, pp_ref_t *ref, uint64_t *s)
             p->mem[k] = (uint8_t)pp_array_bit(A->mem[k], q);
         p->e = (uint8_t)pp_array_bit(A->en, q);
         p->f = (uint8_t)pp_array_bit(A->flag, q);
-        for (unsigned b = 0; b < PP_BS_BLOCKS; b++) {
-            uint32_t v = 0;
-            for (unsigned k = 0; k < 32; k++)
-                v |= (uint32_t)pp_array_bit(backing_plane(r->bs, b, k), q) << k;
-            p->bs[b] = v;
-        }
+        memset(p->bs, 0, sizeof p->bs);
     }
+    /* Plane by plane: the 8 MB of backing-store planes do not fit in cache. */
+    for (unsigned b = 0; b < PP_BS_BLOCKS; b++)
+        for (unsigned k = 0; k < 32; k++) {
+            const uint64_t *plane = backing_plane(r->bs, b, k);
+            for (unsigned i = 0; i < ref->count; i++)
+                ref->pe[i].bs[b] |= (uint32_t)pp_array_bit(plane, ref->pe[i].index) << k;
+        }
 }
 
-/* Number of PPs whose state differs; reports the first difference. */
-static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *what, bool with_bs)
+/* Number of PPs whose state differs; reports the first difference.  Memory,
+ * E and F are compared PP by PP (the 208 planes stay in cache); the backing
+ * store (8 MB of planes) plane by plane, for block `bs_first` .. + bs_blocks. */
+static unsigned compare_range(const renderer_t *r, const pp_ref_t *ref, const char *what,
+                              unsigned mem_lo, unsigned mem_len, unsigned bs_first,
+                              unsigned bs_blocks)
 {
-    unsigned bad = 0;
+    uint8_t *diff = calloc(ref->count ? ref->count : 1, 1);
+    if (!diff)
+        return 1;
     for (unsigned i = 0; i < ref->count; i++) {
         const pp_ref_pe_t *p = &ref->pe[i];
         unsigned q = p->index;
         bool ok = p->e == pp_array_bit(r->array->en, q) && p->f == pp_array_bit(r->array->flag, q);
-        for (unsigned k = 0; ok && k < PP_MEM_BITS; k++)
+        for (unsigned k = mem_lo; ok && k < mem_lo + mem_len; k++)
             ok = p->mem[k] == pp_array_bit(r->array->mem[k], q);
-        for (unsigned b = 0; ok && with_bs && b < PP_BS_BLOCKS; b++)
-            for (unsigned k = 0; ok && k < 32; k++)
-                ok = ((p->bs[b] >> k) & 1u) == pp_array_bit(r->bs->plane[b * 32 + k], q);
-        if (!ok && bad++ == 0)
+        diff[i] = !ok;
+    }
+    for (unsigned b = bs_first; b < bs_first + bs_blocks; b++)
+        for (unsigned k = 0; k < 32; k++) {
+            const uint64_t *plane = r->bs->plane[b * 32 + k];
+            for (unsigned i = 0; i < ref->count; i++)
+                diff[i] |= ((ref->pe[i].bs[b] >> k) & 1u) != pp_array_bit(plane, ref->pe[i].index);
+        }
+    unsigned bad = 0;
+    for (unsigned i = 0; i < ref->count; i++) {
+        unsigned q = ref->pe[i].index;
+        if (diff[i] && bad++ == 0)
             CHECK_MSG(false, "%s: PP %u (row %u col %u) differs from the reference", what, q,
                       q / PP_ARRAY_DIM, q % PP_ARRAY_DIM);
     }
+    free(diff);
     return bad;
+}
+
+static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *what,
+                        unsigned bs_first, unsigned bs_blocks)
+{
+    return compare_range(r, ref, what, 0, PP_MEM_BITS, bs_first, bs_blocks);
 }
 
 /* Runs `n_insns` random instructions (every opcode appears) through both
@@ -215,6 +238,9 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
+    /* Odd seeds use the host's fastest kernels (AVX2 if present), even seeds the
+     * portable 16-byte ones: both must match the reference. */
+    pp_array_set_avx2(r->array, seed % 2);
     /* Region origins: screen interior, screen edges, negative, the QEE limit. */
     static const int origins[][2] = {{0, 0}, {1152, 896}, {-128, -640}, {8064, -8064},
                                      {640, 384}, {-8064, 8064}};
@@ -251,8 +277,61 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
         pp_isa_format(&in, what, sizeof what);
         char ctx[260];
         snprintf(ctx, sizeof ctx, "seed %llu insn %u %s", (unsigned long long)seed, i, what);
-        /* The backing store (4096 bits per PP) is compared after stores and at the end. */
-        bad += compare(r, &ref, ctx, in.op == PP_OP_BSSTORE || i + 1 == n_insns);
+        /* After each instruction: E, F, the destination field and (after a
+         * store) the stored block; after the last one everything (so a write
+         * outside the destination is caught too). */
+        if (i + 1 == n_insns) {
+            bad += compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
+        } else {
+            const pp_op_info_t *info = pp_isa_info(in.op);
+            bad += compare_range(r, &ref, ctx, in.d, pp_isa_field_bits(&in, info->d_width), in.x,
+                                 in.op == PP_OP_BSSTORE ? 1 : 0);
+        }
+    }
+    pp_stream_free(&st);
+    pp_ref_free(&ref);
+    return bad;
+}
+
+/* The same comparison with the whole program sent as ONE stream (exercises
+ * decoding of consecutive instructions with immediates); compared at the end. */
+static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
+                                   unsigned n_insns)
+{
+    uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
+    renderer_t *r = new_renderer();
+    pp_ref_t ref;
+    if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
+        return 1;
+    randomize(r, &ref, &s);
+    pp_array_set_avx2(r->array, seed % 2);
+    int ox = (int)rng_below(&s, 2000) - 500, oy = (int)rng_below(&s, 2000) - 500;
+    renderer_set_region(r, ox, oy);
+    unsigned ops[PP_OP_LIMIT], n_ops = legal_ops(ops);
+    pp_stream_t st;
+    pp_stream_init(&st);
+    for (unsigned i = 0; i < n_insns; i++)
+        emit_random(&st, &s, i < n_ops ? ops[i] : ops[rng_below(&s, n_ops)]);
+    unsigned bad = 0;
+    renderer_exec_result_t res;
+    if (!CHECK_MSG(pp_stream_ok(&st), "encoder: %s", pp_stream_error(&st)) ||
+        !CHECK_MSG(renderer_execute(r, st.words, st.n_words, &res) == PP5_OK, "execute: %s",
+                   pp5_error_text())) {
+        bad = 1;
+    } else {
+        size_t pos = 0;
+        pp_insn_t in;
+        unsigned decoded = 0;
+        while (pos < st.n_words &&
+               pp_isa_decode(st.words, st.n_words, &pos, PP_MEM_BITS, &in) == PP5_OK) {
+            pp_ref_exec(&ref, &in, ox, oy);
+            decoded++;
+        }
+        CHECK_EQ(decoded, n_insns);
+        CHECK_EQ(res.instructions, n_insns);
+        char ctx[80];
+        snprintf(ctx, sizeof ctx, "one-stream program, seed %llu", (unsigned long long)seed);
+        bad = compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
     }
     pp_stream_free(&st);
     pp_ref_free(&ref);
@@ -261,8 +340,9 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
 
 TEST(pp_random_streams_match_reference_on_sampled_pps)
 {
-    /* 150 streams x 80 instructions; each compares 256 PPs (the four corners
-     * and 252 random ones) after every instruction. */
+    /* 150 streams x 80 instructions, each compared on 256 PPs (the four corners
+     * and 252 random ones) after every instruction; plus 30 programs of 120
+     * instructions sent as one stream and compared at the end. */
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
     unsigned pps[PPS], failed = 0;
     for (unsigned seed = 1; seed <= STREAMS; seed++) {
@@ -274,6 +354,8 @@ TEST(pp_random_streams_match_reference_on_sampled_pps)
         for (unsigned i = 4; i < PPS; i++)
             pps[i] = rng_below(&s, PP_COUNT);
         failed += run_random_stream(seed, pps, PPS, INSNS) != 0;
+        if (seed % 5 == 0)
+            failed += run_random_program(seed, pps, PPS, 120) != 0;
         if (failed)
             break;
     }
@@ -411,59 +493,64 @@ TEST(pp_every_op_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 77;
     unsigned cases = 0, bad = 0;
-    for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
-        for (size_t wi = 0; wi < 4; wi++)
-            for (unsigned rep = 0; rep < 3; rep++) {
-                model_case_t c = {ops[oi], widths[wi], 1 + rng_below(&s, widths[wi]),
-                                  rng_below(&s, widths[wi] + 2), rng_below(&s, PP_COND_COUNT),
-                                  rng_below(&s, 2), (uint32_t)rng_next(&s)};
-                if (c.op == PP_OP_F_SET)
-                    c.k &= 1u;
-                for (unsigned p = 0; p < PP_COUNT; p++) {
-                    a[p] = (uint32_t)rng_next(&s);
-                    /* Equal operands are a case of their own for compares. */
-                    b[p] = rng_below(&s, 4) == 0 ? a[p] : (uint32_t)rng_next(&s);
-                    d[p] = (uint32_t)rng_next(&s);
-                    ctl[p] = (uint32_t)rng_next(&s) & 3u;   /* bit 0: F, bit 1: E */
-                }
-                if (c.op == PP_OP_CMPI && rep == 0)
-                    c.imm = a[0];
-                renderer_write_field(r, 0, 32, a);
-                renderer_write_field(r, 40, 32, b);
-                renderer_write_field(r, 80, 32, d);
-                renderer_write_field(r, 120, 2, ctl);
-                pp_stream_t st;
-                pp_stream_init(&st);
-                pp_emit_en_all(&st);
-                pp_emit_f_ld(&st, 121);
-                pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
-                pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
-                emit_case(&st, &c);
-                REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
-                REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
-                            pp5_error_text());
-                pp_stream_free(&st);
-                renderer_read_field(r, 80, c.n, out);
-                cases++;
-                for (unsigned p = 0; p < PP_COUNT; p++) {
-                    unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
-                    uint64_t want_d;
-                    unsigned want_f;
-                    model(&c, a[p], b[p], d[p] & mask_n(c.n), f_in, &want_d, &want_f);
-                    if (!e) {
-                        want_d = d[p] & mask_n(c.n);
-                        want_f = f_in;
+    for (int kernels = 0; kernels < 2; kernels++) {
+        pp_array_set_avx2(r->array, kernels);        /* portable, then the host's fastest */
+        for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
+            for (size_t wi = 0; wi < 4; wi++)
+                for (unsigned rep = 0; rep < 3; rep++) {
+                    model_case_t c = {ops[oi], widths[wi], 1 + rng_below(&s, widths[wi]),
+                                      rng_below(&s, widths[wi] + 2), rng_below(&s, PP_COND_COUNT),
+                                      rng_below(&s, 2), (uint32_t)rng_next(&s)};
+                    if (c.op == PP_OP_F_SET)
+                        c.k &= 1u;
+                    for (unsigned p = 0; p < PP_COUNT; p++) {
+                        a[p] = (uint32_t)rng_next(&s);
+                        /* Equal operands are a case of their own for compares. */
+                        b[p] = rng_below(&s, 4) == 0 ? a[p] : (uint32_t)rng_next(&s);
+                        d[p] = (uint32_t)rng_next(&s);
+                        ctl[p] = (uint32_t)rng_next(&s) & 3u;   /* bit 0: F, bit 1: E */
                     }
-                    unsigned got_f = pp_array_bit(r->array->flag, p);
-                    if ((out[p] != want_d || got_f != want_f) && bad++ < 3)
-                        CHECK_MSG(false, "%s n=%u m=%u k=%u cond=%u sgn=%d imm=0x%x PP %u "
+                    if (c.op == PP_OP_CMPI && rep == 0)
+                        c.imm = a[0];
+                    renderer_write_field(r, 0, 32, a);
+                    renderer_write_field(r, 40, 32, b);
+                    renderer_write_field(r, 80, 32, d);
+                    renderer_write_field(r, 120, 2, ctl);
+                    pp_stream_t st;
+                    pp_stream_init(&st);
+                    pp_emit_en_all(&st);
+                    pp_emit_f_ld(&st, 121);
+                    pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
+                    pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
+                    emit_case(&st, &c);
+                    REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
+                    REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
+                                pp5_error_text());
+                    pp_stream_free(&st);
+                    renderer_read_field(r, 80, c.n, out);
+                    cases++;
+                    for (unsigned p = 0; p < PP_COUNT; p++) {
+                        unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
+                        uint64_t want_d;
+                        unsigned want_f;
+                        model(&c, a[p], b[p], d[p] & mask_n(c.n), f_in, &want_d, &want_f);
+                        if (!e) {
+                            want_d = d[p] & mask_n(c.n);
+                            want_f = f_in;
+                        }
+                        unsigned got_f = pp_array_bit(r->array->flag, p);
+                        if ((out[p] != want_d || got_f != want_f) && bad++ < 3)
+                            CHECK_MSG(false, "%s n=%u m=%u k=%u cond=%u sgn=%d imm=0x%x PP %u "
                                   "(E=%u a=0x%x b=0x%x): d 0x%x want 0x%llx, F %u want %u",
-                                  pp_isa_info(c.op)->name, c.n, c.m, c.k, c.cond, c.sgn, c.imm, p,
-                                  e, a[p], b[p], out[p], (unsigned long long)want_d, got_f, want_f);
+                                  pp_isa_info(c.op)->name, c.n, c.m, c.k, c.cond, c.sgn, c.imm,
+                                  p, e, a[p], b[p], out[p], (unsigned long long)want_d, got_f,
+                                  want_f);
+                    }
                 }
-            }
+    }
+    pp_array_set_avx2(r->array, true);
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 19 * 4 * 3);
+    CHECK_EQ(cases, 2 * 19 * 4 * 3);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
@@ -513,4 +600,54 @@ TEST(pp_isa_doc_is_in_sync_with_the_table)
               "`pp5 pp-isa` table: regenerate it");
     free(table);
     free(doc);
+}
+
+TEST(pp_diffuse_shading_recipe_of_pp_isa_md)
+{
+    /* The recipe documented in emu/PP_ISA.md: I = max(0, N.L) >> 7 with signed
+     * 8-bit normal components in pixel memory and L as constants; checked
+     * against C for every PP. */
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    enum { NX = 0, NY = 8, NZ = 16, T = 24, DOT = 48, I = 72, W = 18 };
+    const int32_t L[3] = {-45, 90, 71};
+    uint32_t *nx = malloc(PP_COUNT * 4), *ny = malloc(PP_COUNT * 4), *nz = malloc(PP_COUNT * 4),
+             *out = malloc(PP_COUNT * 4);
+    REQUIRE(nx && ny && nz && out);
+    uint64_t s = 4242;
+    for (unsigned p = 0; p < PP_COUNT; p++) {
+        nx[p] = (uint32_t)rng_next(&s) & 0xff;
+        ny[p] = (uint32_t)rng_next(&s) & 0xff;
+        nz[p] = (uint32_t)rng_next(&s) & 0xff;
+    }
+    renderer_write_field(r, NX, 8, nx);
+    renderer_write_field(r, NY, 8, ny);
+    renderer_write_field(r, NZ, 8, nz);
+    pp_stream_t st;
+    pp_stream_init(&st);
+    pp_emit_muli(&st, DOT, W, NX, 8, true, L[0]);       /* dot = nx * Lx */
+    pp_emit_muli(&st, T, W, NY, 8, true, L[1]);
+    pp_emit_add(&st, DOT, DOT, T, W);                   /* += ny * Ly */
+    pp_emit_muli(&st, T, W, NZ, 8, true, L[2]);
+    pp_emit_add(&st, DOT, DOT, T, W);                   /* += nz * Lz */
+    pp_emit_cmpi(&st, PP_CMP_LTS, DOT, W, 0);           /* F = dot < 0 */
+    pp_emit_en_flag(&st);
+    pp_emit_seti(&st, DOT, W, 0);                       /* clamp where negative */
+    pp_emit_en_all(&st);
+    pp_emit_shr(&st, I, DOT, W, 7);                     /* fixed point: / 128 */
+    REQUIRE(pp_stream_ok(&st));
+    renderer_exec_result_t res;
+    REQUIRE(renderer_execute(r, st.words, st.n_words, &res) == PP5_OK);
+    pp_stream_free(&st);
+    renderer_read_field(r, I, 11, out);
+    unsigned bad = 0;
+    for (unsigned p = 0; p < PP_COUNT; p++) {
+        int32_t d = (int8_t)nx[p] * L[0] + (int8_t)ny[p] * L[1] + (int8_t)nz[p] * L[2];
+        uint32_t want = d < 0 ? 0u : (uint32_t)d >> 7;
+        bad += out[p] != want;
+    }
+    CHECK_EQ(bad, 0);
+    CHECK_EQ(res.instructions, 10);
+    CHECK(res.class_cycles[PP_CLASS_MUL] > 0);
+    free(nx); free(ny); free(nz); free(out);
 }

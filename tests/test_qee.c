@@ -1,10 +1,12 @@
 /* test_qee.c: QEE values exact for every pixel of a region (negative, large and zero
  * coefficients, screen-edge, negative and extreme origins, wrap to n bits), checked
  * against an independent 128-bit evaluation in this file. */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
+#include "pp_array.h"
 #include "pp_encode.h"
 #include "qee.h"
 #include "renderer.h"
@@ -133,16 +135,21 @@ TEST(qee_exact_for_every_pixel_of_a_region)
     /* (n, shift): small, 32-bit, wide (> 64 bits: sign-extension region), fraction. */
     static const unsigned widths[][2] = {{8, 0}, {32, 0}, {20, 12}, {90, 0}, {17, 63}};
     unsigned bad = 0, runs = 0;
-    for (size_t c = 0; c < sizeof sets / sizeof sets[0]; c++)
-        for (size_t o = 0; o < sizeof origins / sizeof origins[0]; o++)
-            for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
-                unsigned n = widths[w][0], sh = widths[w][1];
-                unsigned d = (unsigned)((c * 7 + o * 3 + w) % (PP_MEM_BITS - n + 1));
-                bad += check_region(r, sets[c], origins[o][0], origins[o][1], d, n, sh);
-                runs++;
-            }
+    for (int kernels = 0; kernels < 2; kernels++) {
+        /* Both kernel copies: portable, then the host's fastest (AVX2 if present). */
+        pp_array_set_avx2(r->array, kernels);
+        for (size_t c = 0; c < sizeof sets / sizeof sets[0]; c++)
+            for (size_t o = 0; o < sizeof origins / sizeof origins[0]; o++)
+                for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+                    unsigned n = widths[w][0], sh = widths[w][1];
+                    unsigned d = (unsigned)((c * 7 + o * 3 + w) % (PP_MEM_BITS - n + 1));
+                    bad += check_region(r, sets[c], origins[o][0], origins[o][1], d, n, sh);
+                    runs++;
+                }
+    }
+    pp_array_set_avx2(r->array, true);
     CHECK_EQ(bad, 0);
-    CHECK_EQ(runs, 150);
+    CHECK_EQ(runs, 2 * 150);
 }
 
 TEST(qee_respects_enable)
@@ -202,6 +209,10 @@ TEST(qee_origin_outside_exact_range_is_a_firmware_error)
     renderer_set_region(r, 8065, 0);
     CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_E_FIRMWARE);
     CHECK(strstr(pp5_error_text(), "QEE") != NULL);
+    renderer_set_region(r, 0, INT_MIN);
+    CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_E_FIRMWARE);
+    renderer_set_region(r, -8064, 8064);
+    CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_OK);
     renderer_set_region(r, 0, 0);
     CHECK_EQ(renderer_execute(r, s.words, s.n_words, NULL), PP5_OK);
     pp_stream_free(&s);

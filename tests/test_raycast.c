@@ -16,7 +16,7 @@ static void make_constant_mip(mip3d_t *m, int n)
     for (size_t i = 0; i < (size_t)n * n * n; i++)
         v.data[i] = 10.0f;
     v.spacing[0] = v.spacing[1] = v.spacing[2] = 1.0;
-    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1.0f, {1.0f, 1.0f, 1.0f}}}};
+    classify_tf_t tf = {.count = 1, .contour = {{10.0f, 0.5f, 1.0f, {1.0f, 1.0f, 1.0f}, 0.0f}}};
     shade_params_t sh;
     shade_defaults(&sh);
     REQUIRE(mip3d_build(m, &v, &tf, &sh, 1) == PP5_OK);
@@ -86,10 +86,10 @@ TEST(raycast_ray_through_constant_volume_by_hand)
     CHECK_EQ(counts.samples, 3);
     CHECK_NEAR(rgb[0], 0.5 + 0.25 + 0.125, 1e-5);
     CHECK_NEAR(rgb[2], 0.875, 1e-5);
-    /* At 2D level 1 the spacing is 2: samples at z = 0 and 2, each standing for
-     * 2 units, so opacity 1 - 0.5^2 = 0.75 per sample, drawn from 3D level 1
-     * (2 = 2^1) where the box filter with zero padding gives, at the level-1
-     * coordinate 0.25 ... see mip test; here only the count is hand-checked. */
+    /* At 2D level 1 the spacing is 2: samples at z = 0 and 2 only (the
+     * colour of such a ray is checked in
+     * raycast_coarse_ray_opacity_correction_by_hand, on a volume without the
+     * zero padding this odd size brings). */
     raycast_counts_t c2 = {0};
     raycast_trace(&ctx, 0.5f, 0.5f, 1, rgb, &c2);
     CHECK_EQ(c2.samples, 2);
@@ -177,4 +177,80 @@ TEST(raycast_octree_skipping_keeps_image_parallel_gaze)
 TEST(raycast_octree_skipping_keeps_image_perspective_gaze)
 {
     render_pair(true, RENDER_MODE_GAZE);
+}
+
+TEST(raycast_coarse_ray_opacity_correction_by_hand)
+{
+    /* 4x4x4 volume of opacity 0.5: level 1 is 2x2x2, all 0.5 (no padding).
+     * A level-1 ray along z through (1.5, 1.5) samples every 2 units, at
+     * z = 0 and 2, from 3D level 1.  Each sample stands for 2 units:
+     * a' = 1 - 0.5^2 = 0.75, colour 0.75.  Composite: 0.75 + 0.25 * 0.75. */
+    mip3d_t m;
+    make_constant_mip(&m, 4);
+    REQUIRE(m.level[1].nx == 2);
+    CHECK_NEAR(m.level[1].data[MIP3D_A], 0.5, 1e-7);
+    view_params_t vp;
+    view_defaults(&vp);
+    camera_t cam;
+    camera_setup(&cam, &vp, &m, 1, 1);
+    shade_params_t sh;
+    shade_defaults(&sh);
+    octree_t o;
+    REQUIRE(octree_build(&o, &m, 1) == PP5_OK);
+    raycast_ctx_t ctx;
+    raycast_ctx_init(&ctx, &m, &o, &cam, &sh, &vp);
+    float rgb[3];
+    raycast_counts_t counts = {0};
+    raycast_trace(&ctx, 0.5f, 0.5f, 1, rgb, &counts);
+    CHECK_EQ(counts.samples, 2);
+    CHECK_NEAR(rgb[1], 0.75 + 0.25 * 0.75, 1e-5);
+    octree_free(&o);
+    mip3d_free(&m);
+}
+
+TEST(raycast_batch_matches_single_rays_bit_for_bit)
+{
+    volume_t v;
+    REQUIRE(phantom_make("shepp-logan", 40, 36, 30, &v) == PP5_OK);
+    classify_tf_t tf;
+    REQUIRE(classify_preset("shepp-logan", &tf) == PP5_OK);
+    shade_params_t sh;
+    shade_defaults(&sh);
+    mip3d_t m;
+    REQUIRE(mip3d_build(&m, &v, &tf, &sh, 1) == PP5_OK);
+    octree_t o;
+    REQUIRE(octree_build(&o, &m, 1) == PP5_OK);
+    for (int proj = 0; proj < 2; proj++) {
+        view_params_t vp;
+        view_defaults(&vp);
+        vp.projection = proj ? PROJECTION_PERSPECTIVE : PROJECTION_PARALLEL;
+        vp.rot_y_deg = 33.0f;
+        camera_t cam;
+        camera_setup(&cam, &vp, &m, 64, 64);
+        raycast_ctx_t ctx;
+        raycast_ctx_init(&ctx, &m, &o, &cam, &sh, &vp);
+        for (int level = 0; level < 3; level++) {
+            float px[RAYCAST_BATCH], py[RAYCAST_BATCH], batch[RAYCAST_BATCH][3];
+            for (int i = 0; i < RAYCAST_BATCH; i++) {
+                px[i] = 5.5f + 7.0f * (float)i;    /* across the phantom, some misses */
+                py[i] = 20.5f + (float)(3 * i % 11);
+            }
+            raycast_counts_t cb = {0}, cs = {0};
+            raycast_trace_batch(&ctx, RAYCAST_BATCH, px, py, level, batch, &cb);
+            int same = 1;
+            for (int i = 0; i < RAYCAST_BATCH; i++) {
+                float one[3];
+                raycast_trace(&ctx, px[i], py[i], level, one, &cs);
+                same &= memcmp(one, batch[i], sizeof one) == 0;
+            }
+            CHECK(same);
+            CHECK_EQ(cb.rays, cs.rays);
+            CHECK_EQ(cb.samples, cs.samples);
+            CHECK_EQ(cb.samples_skipped, cs.samples_skipped);
+            CHECK(cs.samples > 0);
+        }
+    }
+    octree_free(&o);
+    mip3d_free(&m);
+    volume_free(&v);
 }

@@ -156,3 +156,33 @@ TEST(render_cli_rejects_bad_input)
     CHECK(pp5_test_run_cli("render --raw-dims 3x3", NULL, NULL) != 0);
     CHECK_EQ(pp5_test_run_cli("render --help", NULL, NULL), 0);
 }
+
+TEST(render_reproduce_table1_falls_back_to_phantom)
+{
+    const char *dir = pp5_test_outdir();
+    char out[1024], empty[1024];
+    snprintf(out, sizeof out, "%s/table1.txt", dir);
+    snprintf(empty, sizeof empty, "%s/no-data", dir);
+    const char *old = getenv("PP5_SHARED_DATA");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("PP5_SHARED_DATA", empty, 1);
+    int rc = pp5_test_run_cli("reproduce table1 --repeats 1 --threads 2", out, NULL);
+    if (saved) {
+        setenv("PP5_SHARED_DATA", saved, 1);
+        free(saved);
+    } else {
+        unsetenv("PP5_SHARED_DATA");
+    }
+    CHECK_EQ(rc, 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text);
+    CHECK(strstr(text, "FALLBACK") != NULL);
+    CHECK(strstr(text, "Shepp-Logan") != NULL);
+    /* The paper's rows, and our full-resolution image of 210 x 210 = 44,100
+     * rays (one per pixel). */
+    CHECK(strstr(text, "9657") != NULL);
+    CHECK(strstr(text, "316500") != NULL);
+    CHECK(strstr(text, "ours   full          44100") != NULL);
+    free(text);
+    CHECK(pp5_test_run_cli("reproduce no-such-scenario", NULL, NULL) != 0);
+}

@@ -202,3 +202,29 @@ TEST(ring_arbitration_follows_emulated_time_not_call_order)
     ring_free(&r);
     sched_free(&s);
 }
+
+TEST(ring_receiver_with_one_port_serialises_arrivals)
+{
+    ring_t r;
+    sched_t s;
+    sink_t k;
+    setup(&r, &s, &k, 8);
+    REQUIRE(ring_set_rx_ports(&r, 9, 1) == PP5_OK);
+    static uint8_t payload[992];   /* 1000 wire bytes = 250 cycles */
+    ring_msg_t a = msg_of(RING_CLASS_PIXELS, sizeof payload, payload, 1);
+    ring_msg_t b = msg_of(RING_CLASS_PIXELS, sizeof payload, payload, 2);
+    REQUIRE(ring_send(&r, &a, 8, 9, 0) == PP5_OK);   /* 1 hop */
+    REQUIRE(ring_send(&r, &b, 6, 9, 0) == PP5_OK);   /* 3 hops, other channel */
+    sched_stop_t why;
+    sched_run_until(&s, PP5_TICK_MAX, &why);
+    REQUIRE(k.n == 2);
+    pp5_tick_t ser = 250ull * 50000, hop = 3ull * 50000;
+    CHECK_EQ(k.when[0], ser + 1 * hop);
+    /* b may only start arriving when a has been received: its arrival is a's
+     * arrival plus its own serialisation. */
+    CHECK_EQ(k.when[1], (ser + 1 * hop) + ser);
+    CHECK_EQ(r.ch[0].messages, 1);
+    CHECK_EQ(r.ch[1].messages, 1);
+    ring_free(&r);
+    sched_free(&s);
+}

@@ -1,7 +1,7 @@
 /* test_sched.c: event order (when, priority, seq), bounded runs and stop reasons. */
 #include <string.h>
 #include "harness.h"
-#include "sched.h"
+#include "pp5_sched.h"
 
 typedef struct {
     int order[64];
@@ -31,7 +31,7 @@ TEST(sched_orders_by_time_priority_then_insertion)
     sched_stop_t why;
     pp5_status_t st = sched_run_until(&s, 1000, &why);
     CHECK_EQ(st, PP5_OK);
-    CHECK_EQ(why, SCHED_IDLE);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
     int want[] = { 5, 2, 1, 4, 3, 0 };
     CHECK_EQ(l.n, 6);
     for (int i = 0; i < 6; i++) {
@@ -71,7 +71,7 @@ TEST(sched_run_until_stops_at_the_limit)
     sched_stop_t why;
     pp5_status_t st = sched_run_until(&s, 499, &why);
     CHECK_EQ(st, PP5_OK);
-    CHECK_EQ(why, SCHED_REACHED);
+    CHECK_EQ(why, SCHED_STOP_REACHED);
     CHECK_EQ(l.n, 1);
     CHECK_EQ(s.now, 499);
     CHECK_EQ(sched_next_time(&s), 500);
@@ -93,7 +93,7 @@ TEST(sched_firmware_error_stops_the_run)
     sched_stop_t why;
     pp5_status_t st = sched_run_until(&s, 100, &why);   /* not inside CHECK_EQ: it evaluates twice */
     CHECK_EQ(st, PP5_E_FIRMWARE);
-    CHECK_EQ(why, SCHED_FIRMWARE_ERROR);
+    CHECK_EQ(why, SCHED_STOP_FIRMWARE_ERROR);
     CHECK_EQ(l.n, 0);
     CHECK(strstr(pp5_error_text(), "test firmware error at 10") != NULL);
     sched_free(&s);
@@ -114,7 +114,7 @@ TEST(sched_budget_exceeded_names_busy_units)
     sched_stop_t why;
     pp5_status_t st = sched_run_budget(&s, 1000, &why);
     CHECK_EQ(st, PP5_E_RANGE);
-    CHECK_EQ(why, SCHED_BUDGET_EXCEEDED);
+    CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "renderer 3") != NULL);
     sched_free(&s);
 }

@@ -111,3 +111,11 @@ TEST(util_registry_sorted)
         CHECK(strcmp(c[i - 1].name, c[i].name) < 0);
     CHECK(pp5_find_command("bench") != NULL);
 }
+
+TEST(util_fail_may_wrap_the_previous_message)
+{
+    pp5_fail(PP5_E_FORMAT, "byte %d is bad", 12);
+    pp5_fail(PP5_E_FORMAT, "%s: %s", "/dev/hidraw0", pp5_error_text());
+    CHECK_MSG(strcmp(pp5_error_text(), "/dev/hidraw0: byte 12 is bad") == 0, "got '%s'",
+              pp5_error_text());
+}

@@ -142,7 +142,9 @@ static int bench_pp_array(const pp5_bench_opts_t *o)
     pp_stream_t s;
     pp_stream_init(&s);
     printf("   renderer-cycles per host CPU second (one host core; one renderer-cycle =\n"
-           "   one bit step across all %u PPs; real renderer at 40 MHz: 40.0 M/s):\n", PP_COUNT);
+           "   one bit step across all %u PPs; real renderer at 40 MHz: 40.0 M/s);\n"
+           "   kernels: %s\n", PP_COUNT,
+           r->array->use_avx2 ? "AVX2 (32-byte vectors)" : "portable (16-byte vectors)");
     int rc = 0;
     for (int k = MIX_ADD; k <= MIX_MIX && rc == 0; k++) {
         build(&s, (mix_t)k);
@@ -153,6 +155,17 @@ static int bench_pp_array(const pp5_bench_opts_t *o)
             printf("   %-26s %8.2f M cycles/s  (%5.1f%% of real time; %llu cycles/stream; wall %.2f M/s)\n",
                    mix_name((mix_t)k), cps / 1e6, 100.0 * cps / 40e6, (unsigned long long)per,
                    cps_wall / 1e6);
+    }
+    /* The same mix with the portable 16-byte kernels (hosts without AVX2). */
+    if (rc == 0 && pp_array_set_avx2(r->array, false) == false) {
+        build(&s, MIX_MIX);
+        double cps, cps_wall;
+        uint64_t per;
+        rc = measure(r, &s, min_s, &cps, &cps_wall, &per);
+        if (rc == 0)
+            printf("   %-26s %8.2f M cycles/s  (portable 16-byte kernels, no AVX2)\n",
+                   "MIX, portable kernels", cps / 1e6);
+        pp_array_set_avx2(r->array, true);
     }
     /* The bit-serial reference executor, all 16384 PPs, on the mix. */
     if (rc == 0) {

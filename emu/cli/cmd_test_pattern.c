@@ -96,7 +96,7 @@ static int cmd_test_pattern(int argc, char **argv)
     if (st == PP5_OK) {
         st = machine_load_all(&m, &testpattern_program);
     }
-    sched_stop_t stop = SCHED_IDLE;
+    sched_stop_t stop = SCHED_STOP_IDLE;
     if (st == PP5_OK) {
         st = machine_run_setup(&m, &stop);
     }

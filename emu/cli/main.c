@@ -27,7 +27,7 @@ int main(int argc, char **argv)
     }
     const char *name = argv[1];
     if (strcmp(name, "help") == 0 || strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
-        if (argc >= 3 && strcmp(name, "help") == 0) {
+        if (argc >= 3 && strcmp(name, "help") == 0 && argv[2][0] != '-') {
             const pp5_command_t *c = pp5_find_command(argv[2]);
             if (!c) {
                 fprintf(stderr, "pp5: no command '%s' (see pp5 help)\n", argv[2]);

@@ -4,15 +4,20 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static _Thread_local char error_text[1024];
 
 pp5_status_t pp5_fail(pp5_status_t st, const char *fmt, ...)
 {
+    /* Format into a scratch buffer first: callers often wrap the previous
+     * message, as in pp5_fail(st, "%s: %s", path, pp5_error_text()). */
+    char scratch[sizeof error_text];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(error_text, sizeof error_text, fmt, ap);
+    vsnprintf(scratch, sizeof scratch, fmt, ap);
     va_end(ap);
+    memcpy(error_text, scratch, sizeof error_text);
     return st;
 }
 

@@ -38,7 +38,7 @@ fi
 py=/usr/bin/python3
 vtk_ms=$(xvfb-run -a "$py" "$here/vtk_peer.py" "$tmp/cthead.raw" 256 256 113 "$side" 9 2 |
          awk '/vtk_ms_per_frame/ {print $2}')
-echo "   peers on CThead ${side}x${side}, shaded composite, skin iso-value 500, parallel:"
+echo "   peers on CThead ${side}x${side}, shaded composite, value ramp 350..640 -> 0.8 (ct-skin-ramp), parallel:"
 [ -n "$vtk_ms" ] && echo "     VTK vtkFixedPointVolumeRayCastMapper (2 threads, Xvfb): ${vtk_ms} ms/frame" ||
     echo "     VTK: did not run"
 [ -n "$vp_ms" ] && echo "     VolPack shear-warp (1 thread, classified volume): ${vp_ms} ms/frame" ||

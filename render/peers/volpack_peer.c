@@ -74,14 +74,14 @@ int main(int argc, char **argv)
                               (size_t)nx * ny * sizeof *vox), "raw voxels");
     double t0 = now_ms();
     check(vpc, vpVolumeNormals(vpc, density, n, 1, 2, 0), "normals");
-    /* Skin: the same iso-value as pp5's ct-skin preset (500 / 16 = 31),
-     * opacity ramp 0 -> 0.8 over 22..40, weighted by gradient. */
+    /* pp5's ct-skin-ramp: opacity 0 at 350 rising to 0.8 at 640 (22 and 40
+     * after the /16 to 8 bits), not weighted by gradient (ramp of 1s). */
     static float density_ramp[256], gradient_ramp[VP_GRAD_MAX + 1];
     int dx[4] = {0, 22, 40, 255};
     float dy[4] = {0.0f, 0.0f, 0.8f, 0.8f};
     vpRamp(density_ramp, sizeof(float), 4, dx, dy);
     int gx[3] = {0, 10, VP_GRAD_MAX};
-    float gy[3] = {0.0f, 1.0f, 1.0f};
+    float gy[3] = {1.0f, 1.0f, 1.0f};
     vpRamp(gradient_ramp, sizeof(float), 3, gx, gy);
     check(vpc, vpSetClassifierTable(vpc, 0, 1, density_ramp, sizeof density_ramp), "table0");
     check(vpc, vpSetClassifierTable(vpc, 1, 2, gradient_ramp, sizeof gradient_ramp), "table1");

@@ -27,7 +27,7 @@ def main():
     reader.SetDataSpacing(1.0, 1.0, 2.0)      # CThead 1:1:2
     reader.Update()
 
-    # Skin surface at the same iso-value as pp5's ct-skin preset (500).
+    # pp5's ct-skin-ramp: opacity 0 at 350 rising to 0.8 at 640, 0.8 above.
     opacity = vtk.vtkPiecewiseFunction()
     opacity.AddPoint(0, 0.0)
     opacity.AddPoint(350, 0.0)

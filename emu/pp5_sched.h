@@ -1,4 +1,4 @@
-/* sched.h: the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
+/* pp5_sched.h (not sched.h: -Iemu would shadow the system <sched.h> that <pthread.h> includes): the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
  *
  * Events exist only at interactions between units (a ring message arriving,
  * a renderer finishing a command, a GP ready for its next message); between
@@ -29,11 +29,11 @@ typedef struct {
 } sched_event_t;
 
 typedef enum {
-    SCHED_REACHED = 0,       /* now == t_end, events remain after it */
-    SCHED_IDLE,              /* queue empty (now = time of the last event) */
-    SCHED_BUDGET_EXCEEDED,   /* sched_run_budget: work remains past the budget */
-    SCHED_FIRMWARE_ERROR,    /* a callback returned PP5_E_FIRMWARE */
-    SCHED_ERROR              /* a callback returned another error */
+    SCHED_STOP_REACHED = 0,       /* now == t_end, events remain after it */
+    SCHED_STOP_IDLE,              /* queue empty (now = time of the last event) */
+    SCHED_STOP_BUDGET_EXCEEDED,   /* sched_run_budget: work remains past the budget */
+    SCHED_STOP_FIRMWARE_ERROR,    /* a callback returned PP5_E_FIRMWARE */
+    SCHED_STOP_ERROR              /* a callback returned another error */
 } sched_stop_t;
 
 /* Writes a description of the units still busy (for budget messages). */

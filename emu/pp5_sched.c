@@ -1,5 +1,5 @@
-/* sched.c: binary-heap event queue ordered by (when, priority, seq). */
-#include "sched.h"
+/* pp5_sched.c: binary-heap event queue ordered by (when, priority, seq). */
+#include "pp5_sched.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,11 +19,11 @@ void sched_free(sched_t *s)
 const char *sched_stop_name(sched_stop_t r)
 {
     switch (r) {
-    case SCHED_REACHED: return "REACHED";
-    case SCHED_IDLE: return "IDLE";
-    case SCHED_BUDGET_EXCEEDED: return "BUDGET_EXCEEDED";
-    case SCHED_FIRMWARE_ERROR: return "FIRMWARE_ERROR";
-    case SCHED_ERROR: return "ERROR";
+    case SCHED_STOP_REACHED: return "REACHED";
+    case SCHED_STOP_IDLE: return "IDLE";
+    case SCHED_STOP_BUDGET_EXCEEDED: return "BUDGET_EXCEEDED";
+    case SCHED_STOP_FIRMWARE_ERROR: return "FIRMWARE_ERROR";
+    case SCHED_STOP_ERROR: return "ERROR";
     }
     return "?";
 }
@@ -113,15 +113,15 @@ pp5_status_t sched_run_until(sched_t *s, pp5_tick_t t_end, sched_stop_t *reason)
         s->events_run++;
         pp5_status_t st = ev.fn(ev.ctx, ev.arg, ev.when);
         if (st != PP5_OK) {
-            *reason = st == PP5_E_FIRMWARE ? SCHED_FIRMWARE_ERROR : SCHED_ERROR;
+            *reason = st == PP5_E_FIRMWARE ? SCHED_STOP_FIRMWARE_ERROR : SCHED_STOP_ERROR;
             return st;
         }
     }
     if (s->count == 0) {
-        *reason = SCHED_IDLE;
+        *reason = SCHED_STOP_IDLE;
     } else {
         s->now = t_end;
-        *reason = SCHED_REACHED;
+        *reason = SCHED_STOP_REACHED;
     }
     return PP5_OK;
 }
@@ -129,10 +129,10 @@ pp5_status_t sched_run_until(sched_t *s, pp5_tick_t t_end, sched_stop_t *reason)
 pp5_status_t sched_run_budget(sched_t *s, pp5_tick_t budget_end, sched_stop_t *reason)
 {
     pp5_status_t st = sched_run_until(s, budget_end, reason);
-    if (st != PP5_OK || *reason != SCHED_REACHED) {
+    if (st != PP5_OK || *reason != SCHED_STOP_REACHED) {
         return st;
     }
-    *reason = SCHED_BUDGET_EXCEEDED;
+    *reason = SCHED_STOP_BUDGET_EXCEEDED;
     char busy[512] = "";
     if (s->describe_busy) {
         s->describe_busy(s->describe_ctx, busy, sizeof busy);

@@ -1,0 +1,66 @@
+/* import.h: importers from other gaze formats into pp5 traces (trace_file.h).
+ *
+ * Each importer reads the source's own timestamps and gaze in the source's
+ * screen pixels; the recording's geometry comes from the file where it says
+ * so (EyeLink DISPLAY_COORDS / GAZE_COORDS and END ... RES; gaze-trace v1
+ * header keys) or from the options (Tobii and Pupil exports do not record the
+ * screen).  Options override what the file says.  import_to_display then
+ * carries the gaze to another display through visual angle (angles.h). */
+#ifndef PP5_IMPORT_H
+#define PP5_IMPORT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "gaze.h"
+#include "status.h"
+#include "trace_file.h"
+
+typedef enum {
+    IMPORT_AUTO, IMPORT_EYELINK, IMPORT_TOBII, IMPORT_PUPIL, IMPORT_SHARED
+} import_format_t;
+
+typedef struct {
+    /* Source display, overriding the file (0 = not given). */
+    int source_width_px, source_height_px;
+    double source_width_mm, source_height_mm, source_distance_mm, source_px_per_deg;
+    /* Pupil Labs: samples below this confidence are track loss (docs: ~0.6 and up is useful). */
+    double pupil_min_confidence;
+    /* EyeLink binocular: which eye ('L', 'R', or 0 = mean of the eyes with data). */
+    char eye;
+} import_options_t;
+
+void import_defaults(import_options_t *o);
+bool import_format_parse(const char *name, import_format_t *f);
+const char *import_format_name(import_format_t f);
+/* Guesses the format from the first bytes of the (decompressed) text. */
+import_format_t import_detect(const char *text, size_t len);
+
+/* Each parses the whole text (already decompressed) named `name`. */
+pp5_status_t import_eyelink(const char *text, size_t len, const char *name,
+                            const import_options_t *o, trace_t *out);
+pp5_status_t import_tobii(const char *text, size_t len, const char *name,
+                          const import_options_t *o, trace_t *out);
+pp5_status_t import_pupil(const char *text, size_t len, const char *name,
+                          const import_options_t *o, trace_t *out);
+pp5_status_t import_shared(const char *text, size_t len, const char *name,
+                           const import_options_t *o, trace_t *out);
+
+/* Reads a file (plain or .gz) in the given format (IMPORT_AUTO: detect). */
+pp5_status_t import_file(const char *path, import_format_t format, const import_options_t *o,
+                         trace_t *out);
+
+/* Carries every valid sample to display `to` through visual angle and sets the
+ * header's geometry to `to`. */
+pp5_status_t import_to_display(trace_t *t, const gaze_geometry_t *to);
+
+/* Helpers shared by the importers (import_common.c). */
+/* Applies the options' source geometry over what the file said. */
+void import_apply_geometry(const import_options_t *o, gaze_geometry_t *g);
+/* Next line of text at *pos (NUL-terminated copy in buf, CR stripped); false at the end. */
+bool import_next_line(const char *text, size_t len, size_t *pos, char *buf, size_t size,
+                      bool *too_long);
+/* Splits at `sep` (and strips quotes for CSV); returns the field count or -1 if > max. */
+int import_split(char *line, char sep, char **fields, int max);
+bool import_parse_double(const char *s, double *out);
+
+#endif
