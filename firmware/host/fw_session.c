@@ -219,7 +219,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
             st = machine_send(&s->m, &msg, s->m.sched.now);
         }
     }
-    sched_stop_t stop = SCHED_IDLE;
+    sched_stop_t stop = SCHED_STOP_IDLE;
     /* sim.budget_s bounds one frame; the once-per-sequence mip-map build is
      * minutes of work on the paper's workstation (§6: 5 minutes), so the
      * setup run gets its own bound (FW_SETUP_BUDGET_S), then the frame budget
@@ -230,7 +230,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
     s->m.params.sim_budget_s = frame_budget;
-    if (st == PP5_OK && stop != SCHED_IDLE)
+    if (st == PP5_OK && stop != SCHED_STOP_IDLE)
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: setup stopped (%s)", sched_stop_name(stop));
     s->setup_s = ticks_to_s(s->m.setup_ps);
     s->setup_ring_bytes = ring_total_bytes_sent(&s->m.ring);
@@ -372,10 +372,10 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         msg.payload_bytes = sizeof f;
         st = machine_send(m, &msg, t0);
     }
-    sched_stop_t stop = SCHED_IDLE;
+    sched_stop_t stop = SCHED_STOP_IDLE;
     if (st == PP5_OK)
         st = machine_run_frame(m, &stop);
-    if (st == PP5_OK && stop != SCHED_IDLE)
+    if (st == PP5_OK && stop != SCHED_STOP_IDLE)
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: frame stopped (%s)", sched_stop_name(stop));
     pp5_tick_t t1 = m->sched.now;
     s->frames++;
