@@ -29,13 +29,14 @@ static void usage(FILE *out)
         "end plus the display latency.  Reports the angle between the gaze used and the true\n"
         "gaze at display time, and how much of the time the true gaze was inside the\n"
         "full-resolution region.\n\n"
-        "  --cost NAME[:OPTIONS]    where frame times come from (default constant):\n");
+        "  --cost NAME[:OPTIONS]    where frame times come from (default machine when this build\n"
+        "                           has it, else constant):\n");
     for (int i = 0; i < replay_cost_source_count(); i++)
         fprintf(out, "                             %-10s %s\n", replay_cost_source_at(i)->name,
                 replay_cost_source_at(i)->summary);
     fprintf(out,
-        "  --frame-time-ms X        shorthand for --cost constant:X (default %.1f = the paper's\n"
-        "                           15 frames/s)\n"
+        "  --frame-time-ms X        shorthand for --cost constant:X (a stand-in; %.1f ms is the\n"
+        "                           paper's 15 frames/s)\n"
         "  --tracker-latency-ms T   sample age when it reaches the renderer (default %.0f) [U]\n"
         "  --display-latency-ms D   from frame end to the image on the screen (default %.0f) [U]\n"
         "  --latency-ms T           shorthand: tracker latency T, display latency 0\n"
@@ -48,7 +49,7 @@ static void usage(FILE *out)
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
         "  --csv FILE.csv           one line per frame\n"
-        "  --plot FILE.png          error and frame time over the trace (needs emu/util/plot.h)\n"
+        "  --plot FILE.png          error and frame time over the trace\n"
         "  --frames-dir DIR         write each frame's image as DIR/frame_NNNNN.png (only when\n"
         "                           the cost source renders images; the constant one does not)\n",
         REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
@@ -192,7 +193,11 @@ static int cmd_replay(int argc, char **argv)
         {"frames-dir", required_argument, 0, 'F'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
+    /* The emulated machine when it is built in (firmware/host/replay_machine.c
+     * registers it); the constant stand-in otherwise. */
     char cost_spec[256] = "constant";
+    if (replay_find_cost_source("machine"))
+        snprintf(cost_spec, sizeof cost_spec, "machine");
     const char *report = NULL, *csv = NULL, *plot = NULL, *frames_dir = NULL;
     pp5_status_t st = PP5_OK;
     double ms;

@@ -1,0 +1,208 @@
+/* replay_machine.c: the emulated Pixel-Planes 5 running the gaze-directed
+ * volume renderer, as the frame-cost source of `pp5 replay` (--cost machine).
+ *
+ * Every replayed frame is a real frame of the firmware on the machine model
+ * (fw_session_frame): its emulated time, rays and ring bytes come from the
+ * emulator, never from a constant.  The per-sequence setup (loading the
+ * volume, the GPs' 3D mip-map build) runs once when the source opens.
+ *
+ * Geometry: the rendered image (default 210x210, the size of the paper's
+ * Table I / figure 7 images) is shown magnified across the replay's display
+ * (default the paper's monitor: 1280 px spanning 37 degrees, paper §6), so a
+ * gaze point in display pixels maps to image pixels by one uniform scale
+ * about the display centre, and the renderer's own display model (the same
+ * 37 degrees across the image width) places the sweet spot. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cliopt.h"
+#include "firmware/host/fw_render.h"
+#include "firmware/host/fw_session.h"
+#include "render/render_cli.h"
+#include "render/scene.h"
+#include "tracker/replay.h"
+#include "render/volume.h"
+
+typedef struct {
+    fw_session_t session;
+    bool session_ok;
+    volume_t volume;
+    classify_tf_t tf;
+    shade_params_t shade;
+    render_settings_t settings;
+    image8_t image;
+    double display_cx, display_cy;   /* display centre, display pixels */
+    double image_per_display_px;     /* image pixels per display pixel */
+} machine_cost_t;
+
+typedef struct {
+    char volume[64];      /* "phantom" (Shepp-Logan) or "mrbrain" */
+    int width, height;
+    char preset[64];
+    char lighting[32];
+} machine_cost_opts_t;
+
+static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
+{
+    snprintf(o->volume, sizeof o->volume, "phantom");
+    o->width = o->height = 210;
+    snprintf(o->preset, sizeof o->preset, "default");
+    snprintf(o->lighting, sizeof o->lighting, "diffuse");
+    char buf[512];
+    if (strlen(text) >= sizeof buf)
+        return pp5_fail(PP5_E_CONFIG, "--cost machine: options too long");
+    snprintf(buf, sizeof buf, "%s", text);
+    for (char *save = NULL, *item = strtok_r(buf, ",", &save); item;
+         item = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(item, '=');
+        if (!eq)
+            return pp5_fail(PP5_E_CONFIG, "--cost machine: expected KEY=VALUE, got '%s' "
+                            "(keys: volume, size, preset, lighting)", item);
+        *eq = '\0';
+        const char *key = item, *value = eq + 1;
+        pp5_status_t st = PP5_OK;
+        if (strcmp(key, "volume") == 0 &&
+            (strcmp(value, "phantom") == 0 || strcmp(value, "mrbrain") == 0))
+            snprintf(o->volume, sizeof o->volume, "%s", value);
+        else if (strcmp(key, "size") == 0)
+            st = cliopt_size2("--cost machine: size", value, 16, 1280, &o->width, &o->height);
+        else if (strcmp(key, "preset") == 0)
+            snprintf(o->preset, sizeof o->preset, "%s", value);
+        else if (strcmp(key, "lighting") == 0 &&
+                 (strcmp(value, "diffuse") == 0 || strcmp(value, "specular") == 0 ||
+                  strcmp(value, "moving") == 0))
+            snprintf(o->lighting, sizeof o->lighting, "%s", value);
+        else
+            st = pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s=%s (volume=phantom|mrbrain, "
+                          "size=WxH, preset=NAME, lighting=diffuse|specular|moving)", key, value);
+        if (st != PP5_OK)
+            return st;
+    }
+    return PP5_OK;
+}
+
+/* The volume the paper projects for (§6: 128x128x109): the Shepp-Logan phantom
+ * made at that size, or the MR subject (brainsmall 128x128x84) resampled to it. */
+static pp5_status_t load_volume(const machine_cost_opts_t *o, machine_cost_t *c)
+{
+    render_cli_t cli;
+    render_cli_defaults(&cli);
+    cli.input = strcmp(o->volume, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
+    cli.input_name = strcmp(o->volume, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
+    scene_t sc;
+    pp5_status_t st = fw_load_input(&cli, &sc, stderr);
+    if (st != PP5_OK)
+        return st;
+    c->tf = sc.tf;
+    c->settings.view.rot_x_deg = sc.rot_x_deg;
+    c->settings.view.rot_y_deg = sc.rot_y_deg;
+    c->settings.view.rot_z_deg = sc.rot_z_deg;
+    st = volume_resample(&sc.volume, 128, 128, 109, &c->volume);
+    if (st == PP5_OK) {
+        /* Keep the object's shape: the z spacing grows as the slices do. */
+        c->volume.spacing[0] = sc.volume.spacing[0] * sc.volume.nx / 128.0;
+        c->volume.spacing[1] = sc.volume.spacing[1] * sc.volume.ny / 128.0;
+        c->volume.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
+    }
+    scene_free(&sc);
+    return st;
+}
+
+static void machine_cost_close(void *ctx)
+{
+    machine_cost_t *c = ctx;
+    if (!c)
+        return;
+    if (c->session_ok)
+        fw_session_free(&c->session);
+    volume_free(&c->volume);
+    image8_free(&c->image);
+    free(c);
+}
+
+static pp5_status_t machine_cost_open(const char *options, const gaze_geometry_t *display,
+                                      void **ctx)
+{
+    machine_cost_opts_t o;
+    pp5_status_t st = parse_options(options, &o);
+    if (st != PP5_OK)
+        return st;
+    if (display->width_px <= 0 || display->height_px <= 0)
+        return pp5_fail(PP5_E_CONFIG, "--cost machine: the display has no size in pixels");
+    machine_cost_t *c = calloc(1, sizeof *c);
+    if (!c)
+        return pp5_fail(PP5_E_NOMEM, "--cost machine: out of memory");
+    render_settings_defaults(&c->settings);
+    shade_defaults(&c->shade);
+    if (strcmp(o.lighting, "specular") == 0)
+        c->shade.lighting = SHADE_SPECULAR_FIXED_LIGHT;
+    else if (strcmp(o.lighting, "moving") == 0)
+        c->shade.lighting = SHADE_MOVING_OBJECT;
+    c->settings.width = o.width;
+    c->settings.height = o.height;
+    c->settings.mode = RENDER_MODE_GAZE;
+    c->settings.threads = 1;
+    c->display_cx = 0.5 * display->width_px;
+    c->display_cy = 0.5 * display->height_px;
+    c->image_per_display_px = (double)o.width / display->width_px;
+    st = load_volume(&o, c);
+    pp5_params_cli_t pcli;
+    pp5_params_t params;
+    if (st == PP5_OK) {
+        memset(&pcli, 0, sizeof pcli);
+        pcli.preset = o.preset;
+        st = pp5_params_build(&pcli, &params);
+    }
+    fw_options_t fo;
+    fw_options_default(&fo);
+    if (st == PP5_OK) {
+        fprintf(stderr, "machine: setting up the gaze-directed renderer (%s 128x128x109, %dx%d "
+                "image, preset %s)...\n", o.volume, o.width, o.height, o.preset);
+        st = fw_session_init(&c->session, &c->volume, &c->tf, &c->shade, &c->settings, &params,
+                             &fo);
+        c->session_ok = true;
+    }
+    if (st != PP5_OK) {
+        machine_cost_close(c);
+        return st;
+    }
+    *ctx = c;
+    return PP5_OK;
+}
+
+static pp5_status_t machine_cost_frame(void *ctx, double gaze_x, double gaze_y,
+                                       replay_frame_cost_t *out)
+{
+    machine_cost_t *c = ctx;
+    double ix = (gaze_x - c->display_cx) * c->image_per_display_px + 0.5 * c->settings.width;
+    double iy = (gaze_y - c->display_cy) * c->image_per_display_px + 0.5 * c->settings.height;
+    fw_frame_result_t r;
+    image8_free(&c->image);
+    pp5_status_t st = fw_session_frame(&c->session, ix, iy, out->want_image ? &c->image : NULL,
+                                       &r);
+    if (st != PP5_OK)
+        return st;
+    out->frame_s = r.frame_time_s;
+    out->rays = r.rays;
+    out->ring_bytes = 0;
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++)
+        out->ring_bytes += r.ring_bytes[k];
+    out->image = out->want_image ? &c->image : NULL;
+    return PP5_OK;
+}
+
+static const replay_cost_source_t machine_cost_source = {
+    .name = "machine",
+    .summary = "the emulated Pixel-Planes 5 running the gaze-directed renderer (options: "
+               "volume=phantom|mrbrain,size=WxH,preset=NAME,lighting=diffuse|specular|moving)",
+    .open = machine_cost_open,
+    .cost = machine_cost_frame,
+    .close = machine_cost_close,
+};
+
+__attribute__((constructor)) static void machine_cost_register(void)
+{
+    replay_register_cost_source(&machine_cost_source);
+}
