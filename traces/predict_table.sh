@@ -4,9 +4,12 @@
 #
 #   traces/predict_table.sh [FRAME_MS] [TRACKER_MS] [DISPLAY_MS]   (from the repo root, after make)
 #
-# Frame times come from the built-in constant source of `pp5 replay` (not the
-# emulated machine).  Defaults: 66.667 ms frames (the paper's 15 frames/s),
-# tracker 33 ms, display 17 ms, i.e. the replay defaults.  Each source's
+# Frame times come from the built-in constant source of `pp5 replay` unless
+# COST is set: COST=machine replays every frame on the emulated Pixel-Planes 5
+# (slow: a few frames per host second), and then MAX_FRAMES=N caps the frames
+# per recording and ONLY="name1|name2" picks sources by name.
+# Defaults: 66.667 ms frames (the paper's 15 frames/s), tracker 33 ms,
+# display 17 ms, i.e. the replay defaults.  Each source's
 # recordings are replayed one by one and their frames pooled: mean and 95th
 # percentile of the error at display time (over frames where it is measurable),
 # and the share of display time with the true gaze inside the 6 deg radius.
@@ -16,6 +19,9 @@ FRAME=${1:-66.667}
 TRK=${2:-33}
 DISP=${3:-17}
 PP5=${PP5_BIN:-./pp5}
+COST=${COST:-constant:$FRAME}
+LIMIT=${MAX_FRAMES:+--max-frames $MAX_FRAMES}
+ONLY=${ONLY:-.}
 [ -d "$G" ] || { echo "predict_table.sh: $G is absent (no recorded data here)" >&2; exit 1; }
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
@@ -23,6 +29,7 @@ trap 'rm -rf "$TMP"' EXIT
 printf '%-34s %7s %-9s %9s %9s %8s\n' source seconds predict mean_deg p95_deg inside
 row() {   # name, file list
     name=$1; shift
+    echo "$name" | grep -E -q "$ONLY" || return 0
     secs=$(for f in "$@"; do zcat "$f" | sed -n 's/^# duration_s: \([0-9.]*\).*/\1/p'; done |
            awk '{s += $1} END {printf "%.0f", s}')
     for pred in none linear alphabeta kalman; do
@@ -31,9 +38,9 @@ row() {   # name, file list
         for f in "$@"; do
             i=$((i + 1))
             "$PP5" trace import "$f" --format shared --out "$TMP/t$i.trace" > /dev/null
-            "$PP5" replay "$TMP/t$i.trace" --frame-time-ms "$FRAME" --tracker-latency-ms "$TRK" \
+            "$PP5" replay "$TMP/t$i.trace" --cost "$COST" $LIMIT --tracker-latency-ms "$TRK" \
                 --display-latency-ms "$DISP" --predict "$pred" --timing-only \
-                --csv "$TMP/f.csv" > /dev/null
+                --csv "$TMP/f.csv" > /dev/null 2>&1
             tail -n +2 "$TMP/f.csv" >> "$TMP/all.csv"
         done
         awk -F, '$13 != "nan" {print $13}' "$TMP/all.csv" | sort -g > "$TMP/err.txt"
