@@ -15,13 +15,14 @@
 #include "raycast_internal.h"
 
 #include <math.h>
+#include <string.h>
 
 /* What all parallel rays of one 2D level share (the reference recomputes it
  * per ray, with the same expressions). */
 typedef struct {
     const octree_grid_t *g;
     const octree_grid_t *blend;   /* level n's blend grid: the exact grid dilated by 2 */
-    float dv[3], inv_dv[3], half[3];
+    float dv[4], inv_dv[3], half[3];   /* dv[3] = 0 */
     float base, inv_base, level3d;
     float scale, inv_scale;       /* 2^n and 2^-n for level-n coordinates */
     int n, level2d, dims[3];
@@ -29,7 +30,7 @@ typedef struct {
 } par_level_t;
 
 typedef struct {
-    float ov[3];
+    float ov[4];                  /* level-0 voxel coordinates of the origin; [3] = 0 */
     float t0, t1_volume;
     long k, k_last;               /* next position; last position of the window */
     long k_end;                   /* positions visited by a ray without skipping */
@@ -40,6 +41,7 @@ typedef struct {
 static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
 {
     const camera_t *cam = r->camera;
+    L->dv[3] = 0.0f;
     for (int a = 0; a < 3; a++) {
         L->dv[a] = cam->forward[a] * cam->inv_spacing[a];
         L->inv_dv[a] = L->dv[a] != 0.0f ? 1.0f / L->dv[a] : 0.0f;
@@ -79,6 +81,7 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
         return false;
     for (int a = 0; a < 3; a++)
         s->ov[a] = o[a] * cam->inv_spacing[a];
+    s->ov[3] = 0.0f;
     s->t1_volume = t1;
     s->k_end = -1;                /* all positions, counted when the ray ends */
     const octree_grid_t *g = L->g;
@@ -115,12 +118,27 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
 static inline void position_cell(const par_level_t *L, const par_ray_t *s, long k, float p[3],
                                  float q[3], int fl[3], int c[3])
 {
+    /* The three axes side by side in one vector: each lane does exactly
+     * the scalar operations (no fused multiply-add: ISO C mode). */
+    typedef float v4f __attribute__((vector_size(16)));
+    typedef int v4i __attribute__((vector_size(16)));
     float t = s->t0 + (float)k * L->base;
+    v4f ov, dv, tv = {t, t, t, t};
+    memcpy(&ov, s->ov, sizeof ov);
+    memcpy(&dv, L->dv, sizeof dv);
+    v4f pv = ov + tv * dv;
+    v4f qv = (pv + 0.5f) * L->inv_scale - 0.5f;
+    v4i iv = __builtin_convertvector(qv, v4i);
+    v4i flv = iv + (__builtin_convertvector(iv, v4f) > qv);   /* -1 where truncation rounded up */
+    v4i cv = flv & ~(flv < 0);
+    v4i top = {L->dims[0] - 1, L->dims[1] - 1, L->dims[2] - 1, 0};
+    v4i over = cv > top;
+    cv = (cv & ~over) | (top & over);
     for (int a = 0; a < 3; a++) {
-        p[a] = s->ov[a] + t * L->dv[a];
-        q[a] = (p[a] + 0.5f) * L->inv_scale - 0.5f;
-        fl[a] = mip3d_floor_int(q[a]);
-        c[a] = fl[a] < 0 ? 0 : (fl[a] >= L->dims[a] ? L->dims[a] - 1 : fl[a]);
+        p[a] = pv[a];
+        q[a] = qv[a];
+        fl[a] = flv[a];
+        c[a] = cv[a];
     }
 }
 
