@@ -17,6 +17,11 @@
 #include <math.h>
 #include <string.h>
 
+/* Three axes side by side (lane 3 unused): each lane does exactly the
+ * scalar operations (no fused multiply-add in ISO C mode). */
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
+
 /* What all parallel rays of one 2D level share (the reference recomputes it
  * per ray, with the same expressions). */
 typedef struct {
@@ -27,6 +32,9 @@ typedef struct {
     float scale, inv_scale;       /* 2^n and 2^-n for level-n coordinates */
     int n, level2d, dims[3];
     bool exact;                   /* integer 3D level: samples read level n only */
+    v4f dv_v, inv_dv_v;           /* dv, inv_dv as vectors (lane 3 = 0) */
+    v4i dir_pos, dir_neg;         /* lanes moving up / down the axis (-1 = yes) */
+    v4i dims_v, top_v;            /* dims and dims - 1 */
 } par_level_t;
 
 typedef struct {
@@ -63,6 +71,15 @@ static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
     L->dims[0] = L->g->nx[0];
     L->dims[1] = L->g->ny[0];
     L->dims[2] = L->g->nz[0];
+    for (int a = 0; a < 4; a++) {
+        bool axis = a < 3;
+        L->dv_v[a] = axis ? L->dv[a] : 0.0f;
+        L->inv_dv_v[a] = axis ? L->inv_dv[a] : 0.0f;
+        L->dir_pos[a] = axis && L->dv[a] > 0.0f ? -1 : 0;
+        L->dir_neg[a] = axis && L->dv[a] < 0.0f ? -1 : 0;
+        L->dims_v[a] = axis ? L->dims[a] : 1;
+        L->top_v[a] = axis ? L->dims[a] - 1 : 0;
+    }
 }
 
 /* The reference's ray_begin for this ray: volume clip, then the window of
@@ -115,31 +132,51 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
 /* Level-n cell of position k: continuous coordinates q (as mip3d_sample
  * computes them), their floors, and the floors clamped to the grid (as
  * octree_empty_node clamps them).  Returns the level-0 position in p. */
+/* Clamped level-n cell (lanes 0-2) of level-0 position ov + t * dv, with
+ * the continuous coordinates and floors on the way. */
+static inline v4i cell_of(const par_level_t *L, v4f ov, float t, v4f *pv, v4f *qv, v4i *flv)
+{
+    v4f tv = {t, t, t, t};
+    *pv = ov + tv * L->dv_v;
+    *qv = (*pv + 0.5f) * L->inv_scale - 0.5f;
+    v4i iv = __builtin_convertvector(*qv, v4i);
+    *flv = iv + (__builtin_convertvector(iv, v4f) > *qv);   /* -1 where truncation rounded up */
+    v4i cv = *flv & ~(*flv < 0);
+    v4i over = cv > L->top_v;
+    return (cv & ~over) | (L->top_v & over);
+}
+
 static inline void position_cell(const par_level_t *L, const par_ray_t *s, long k, float p[3],
                                  float q[3], int fl[3], int c[3])
 {
-    /* The three axes side by side in one vector: each lane does exactly
-     * the scalar operations (no fused multiply-add: ISO C mode). */
-    typedef float v4f __attribute__((vector_size(16)));
-    typedef int v4i __attribute__((vector_size(16)));
-    float t = s->t0 + (float)k * L->base;
-    v4f ov, dv, tv = {t, t, t, t};
+    v4f ov, pv, qv;
+    v4i flv;
     memcpy(&ov, s->ov, sizeof ov);
-    memcpy(&dv, L->dv, sizeof dv);
-    v4f pv = ov + tv * dv;
-    v4f qv = (pv + 0.5f) * L->inv_scale - 0.5f;
-    v4i iv = __builtin_convertvector(qv, v4i);
-    v4i flv = iv + (__builtin_convertvector(iv, v4f) > qv);   /* -1 where truncation rounded up */
-    v4i cv = flv & ~(flv < 0);
-    v4i top = {L->dims[0] - 1, L->dims[1] - 1, L->dims[2] - 1, 0};
-    v4i over = cv > top;
-    cv = (cv & ~over) | (top & over);
+    v4i cv = cell_of(L, ov, s->t0 + (float)k * L->base, &pv, &qv, &flv);
     for (int a = 0; a < 3; a++) {
         p[a] = pv[a];
         q[a] = qv[a];
         fl[a] = flv[a];
         c[a] = cv[a];
     }
+}
+
+/* Where the ray ov + t * dv leaves the node of height h holding cell c
+ * (faces on the grid's edge count as infinitely far); the node's cell
+ * range [first, last) per lane. */
+static inline float node_exit(const par_level_t *L, v4f ov, v4i cv, int h, v4i *first,
+                              v4i *last)
+{
+    *first = (cv >> h) << h;
+    *last = *first + (1 << h);
+    v4i cell = (*last & L->dir_pos) | (*first & ~L->dir_pos);
+    v4i valid = (L->dir_pos & (*last < L->dims_v)) | (L->dir_neg & (*first > 0));
+    v4f bound = (__builtin_convertvector(cell, v4f) + 0.5f) * L->scale - 0.5f;
+    v4f te = (bound - ov) * L->inv_dv_v;
+    v4f inf = {INFINITY, INFINITY, INFINITY, INFINITY};
+    te = (v4f)(((v4i)te & valid) | ((v4i)inf & ~valid));
+    float t_exit = te[0] < te[1] ? te[0] : te[1];
+    return te[2] < t_exit ? te[2] : t_exit;
 }
 
 /* mip3d_trilerp for 4 components (the diffuse case), reusing the floors the
@@ -182,18 +219,10 @@ static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int 
  * first position beyond the node, or ends the window. */
 static inline void jump(const par_level_t *L, par_ray_t *s, const int c[3], int h)
 {
-    int first[3], last[3];
-    float t_exit = INFINITY;
-    for (int a = 0; a < 3; a++) {
-        first[a] = (c[a] >> h) << h;
-        last[a] = first[a] + (1 << h);
-        float te = INFINITY;
-        if (L->dv[a] > 0.0f && last[a] < L->dims[a])
-            te = (((float)last[a] + 0.5f) * L->scale - 0.5f - s->ov[a]) * L->inv_dv[a];
-        else if (L->dv[a] < 0.0f && first[a] > 0)
-            te = (((float)first[a] + 0.5f) * L->scale - 0.5f - s->ov[a]) * L->inv_dv[a];
-        t_exit = te < t_exit ? te : t_exit;
-    }
+    v4f ov;
+    memcpy(&ov, s->ov, sizeof ov);
+    v4i cv = {c[0], c[1], c[2], 0}, first, last;
+    float t_exit = node_exit(L, ov, cv, h, &first, &last);
     long k = s->k, k_new = s->k_last + 1;
     /* A hair inside the node, so that the check below rarely fails. */
     float t_in = t_exit - 1e-3f;
@@ -203,12 +232,12 @@ static inline void jump(const par_level_t *L, par_ray_t *s, const int c[3], int 
             k_new = kc;
     }
     if (k_new > k + 1) {
-        float p[3], q[3];
-        int fl[3], cl[3];
-        position_cell(L, s, k_new - 1, p, q, fl, cl);
-        for (int a = 0; a < 3; a++)
-            if (cl[a] < first[a] || cl[a] >= last[a])
-                k_new = k + 1;    /* rounding: fall back to one step */
+        v4f pv, qv;
+        v4i flv;
+        v4i cl = cell_of(L, ov, s->t0 + (float)(k_new - 1) * L->base, &pv, &qv, &flv);
+        v4i outside = (cl < first) | (cl >= last);
+        if (outside[0] | outside[1] | outside[2])
+            k_new = k + 1;        /* rounding: fall back to one step */
     } else {
         k_new = k + 1;
     }
@@ -279,18 +308,15 @@ static void ray_end(const par_level_t *L, const par_ray_t *s, float rgb[3],
 
 /* Walks the beam from t_start; returns the t before which every packet
  * position is proven empty (INFINITY: all up to t_end). */
-static float beam_walk(const par_level_t *L, const octree_grid_t *g, const float ov[3],
+static float beam_walk(const par_level_t *L, const octree_grid_t *g, const float centre[3],
                        float t_start, float t_end)
 {
     const float step = BEAM_STEP * L->scale;   /* |dv| <= 1: moves <= BEAM_STEP cells */
+    v4f ov = {centre[0], centre[1], centre[2], 0.0f}, pv, qv;
+    v4i flv, first, last;
     float t = t_start;
     while (t <= t_end) {
-        int c[3];
-        for (int a = 0; a < 3; a++) {
-            float q = (ov[a] + t * L->dv[a] + 0.5f) * L->inv_scale - 0.5f;
-            int i = mip3d_floor_int(q);
-            c[a] = i < 0 ? 0 : (i >= L->dims[a] ? L->dims[a] - 1 : i);
-        }
+        v4i c = cell_of(L, ov, t, &pv, &qv, &flv);
         size_t b = octree_block_index(g, c[0], c[1], c[2]);
         int h = g->block_height[b];
         if (h < 0) {
@@ -298,16 +324,7 @@ static float beam_walk(const par_level_t *L, const octree_grid_t *g, const float
                 return t - step;
             h = 0;
         }
-        float t_exit = INFINITY;
-        for (int a = 0; a < 3; a++) {
-            int first = (c[a] >> h) << h, last = first + (1 << h);
-            float te = INFINITY;
-            if (L->dv[a] > 0.0f && last < L->dims[a])
-                te = (((float)last + 0.5f) * L->scale - 0.5f - ov[a]) * L->inv_dv[a];
-            else if (L->dv[a] < 0.0f && first > 0)
-                te = (((float)first + 0.5f) * L->scale - 0.5f - ov[a]) * L->inv_dv[a];
-            t_exit = te < t_exit ? te : t_exit;
-        }
+        float t_exit = node_exit(L, ov, c, h, &first, &last);
         if (!(t_exit + step > t))
             return t - step;     /* no progress (rounding): let the rays go on */
         t = t_exit + step;
