@@ -204,15 +204,25 @@ static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int 
     const float *c101 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * 4;
     const float *c011 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * 4;
     const float *c111 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * 4;
-    for (int k = 0; k < 4; k++) {
-        float a = c000[k] + wx * (c100[k] - c000[k]);
-        float b = c010[k] + wx * (c110[k] - c010[k]);
-        float c = c001[k] + wx * (c101[k] - c001[k]);
-        float d = c011[k] + wx * (c111[k] - c011[k]);
-        float e = a + wy * (b - a);
-        float f = c + wy * (d - c);
-        out[k] = e + wz * (f - e);
-    }
+    /* The four components side by side: lane k computes exactly
+     * mip3d_trilerp's out[k]. */
+    v4f v000, v100, v010, v110, v001, v101, v011, v111;
+    memcpy(&v000, c000, sizeof v000);
+    memcpy(&v100, c100, sizeof v100);
+    memcpy(&v010, c010, sizeof v010);
+    memcpy(&v110, c110, sizeof v110);
+    memcpy(&v001, c001, sizeof v001);
+    memcpy(&v101, c101, sizeof v101);
+    memcpy(&v011, c011, sizeof v011);
+    memcpy(&v111, c111, sizeof v111);
+    v4f a = v000 + wx * (v100 - v000);
+    v4f b = v010 + wx * (v110 - v010);
+    v4f c = v001 + wx * (v101 - v001);
+    v4f d = v011 + wx * (v111 - v011);
+    v4f e = a + wy * (b - a);
+    v4f f = c + wy * (d - c);
+    v4f res = e + wz * (f - e);
+    memcpy(out, &res, sizeof res);
 }
 
 /* Jumps from empty position k (cell c, in an empty node of height h) to the
