@@ -181,6 +181,9 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
     s->terminated = false;
     s->t0 = s->t_start = 0.0f;
     s->t1_volume = -1.0f;       /* no positions until the ray meets the volume */
+    s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
+    s->base = 1.0f;             /* set below for rays that meet the volume */
+    s->growth = 2.0f;
     camera_ray(cam, px, py, o, d);
     if (!raycast_clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
         return false;
