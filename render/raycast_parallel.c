@@ -225,6 +225,53 @@ static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int 
     memcpy(out, &res, sizeof res);
 }
 
+/* mip3d_trilerp at level n for stride 8 (specular and moving-object cases), reusing the floors the cell
+ * test computed.  Four components side by side in one vector: lane k does
+ * exactly mip3d_trilerp's arithmetic for out[k], in the same order. */
+static inline v4f lerp_corners(const float *const c[8], int k, float wx, float wy, float wz)
+{
+    v4f v[8];
+    for (int i = 0; i < 8; i++)
+        memcpy(&v[i], c[i] + k, sizeof v[i]);
+    v4f a = v[0] + wx * (v[1] - v[0]);
+    v4f b = v[2] + wx * (v[3] - v[2]);
+    v4f cc = v[4] + wx * (v[5] - v[4]);
+    v4f d = v[6] + wx * (v[7] - v[6]);
+    v4f e = a + wy * (b - a);
+    v4f f = cc + wy * (d - cc);
+    return e + wz * (f - e);
+}
+
+static inline void trilerp(const mip3d_level_t *L, int stride, const float q[3], const int fl[3],
+                           float *out)
+{
+    int x0 = fl[0], y0 = fl[1], z0 = fl[2];
+    float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
+    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
+    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
+    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
+    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
+    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
+    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
+    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
+    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny, st = (size_t)stride;
+    /* Corner order: x fastest, then y, then z (c000, c100, c010, c110, ...). */
+    const float *const c[8] = {
+        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * st,
+        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * st,
+        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * st,
+        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * st,
+        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * st,
+        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * st,
+        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * st,
+        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * st,
+    };
+    for (int k = 0; k < stride; k += 4) {
+        v4f res = lerp_corners(c, k, wx, wy, wz);
+        memcpy(out + k, &res, sizeof res);
+    }
+}
+
 /* Jumps from empty position k (cell c, in an empty node of height h) to the
  * first position beyond the node, or ends the window. */
 static inline void jump(const par_level_t *L, par_ray_t *s, const int c[3], int h)
@@ -277,6 +324,8 @@ static inline bool ray_step(const raycast_ctx_t *r, const par_level_t *L, par_ra
     float comp[8];
     if (L->exact && r->mip->stride == 4)
         trilerp4(&r->mip->level[L->n], q, fl, comp);
+    else if (L->exact && r->mip->stride == 8)
+        trilerp(&r->mip->level[L->n], 8, q, fl, comp);
     else if (L->exact)
         mip3d_trilerp(r->mip, L->n, q[0], q[1], q[2], comp);
     else
