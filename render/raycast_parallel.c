@@ -46,6 +46,18 @@ typedef struct {
     uint64_t n_samples;
 } par_ray_t;
 
+/* Minimum and maximum of two numbers known not to be NaN (fminf and fmaxf
+ * are library calls at -O2). */
+static inline float min_f(float a, float b)
+{
+    return b < a ? b : a;
+}
+
+static inline float max_f(float a, float b)
+{
+    return b > a ? b : a;
+}
+
 static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
 {
     const camera_t *cam = r->camera;
@@ -115,8 +127,10 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
             ta = tb;
             tb = sw;
         }
-        a = fmaxf(a, ta);
-        b = fminf(b, tb);
+        /* fmaxf/fminf without the libm calls: no operand is NaN here
+         * (dv != 0, the box faces are finite or infinite). */
+        a = ta > a ? ta : a;
+        b = tb < b ? tb : b;
     }
     if (a - 1e-3f > t1)
         return false;
@@ -409,15 +423,15 @@ static void packets_skip(const par_level_t *L, par_ray_t *s, const bool *live, i
         for (; j < count && live[j]; j++) {
             bool fits = true;
             for (int a = 0; a < 3; a++) {
-                float l = fminf(lo[a], s[j].ov[a]), h = fmaxf(hi[a], s[j].ov[a]);
+                float l = min_f(lo[a], s[j].ov[a]), h = max_f(hi[a], s[j].ov[a]);
                 if (0.5f * (h - l) * L->inv_scale > BEAM_RADIUS)
                     fits = false;
             }
             if (!fits)
                 break;
             for (int a = 0; a < 3; a++) {
-                lo[a] = fminf(lo[a], s[j].ov[a]);
-                hi[a] = fmaxf(hi[a], s[j].ov[a]);
+                lo[a] = min_f(lo[a], s[j].ov[a]);
+                hi[a] = max_f(hi[a], s[j].ov[a]);
             }
         }
         if (j - i >= 2) {
@@ -427,8 +441,8 @@ static void packets_skip(const par_level_t *L, par_ray_t *s, const bool *live, i
             for (int m = i; m < j; m++) {
                 float ta = s[m].t0 + (float)s[m].k * L->base;
                 float tb = s[m].t0 + (float)s[m].k_last * L->base;
-                t_start = fminf(t_start, ta);
-                t_end = fmaxf(t_end, tb);
+                t_start = min_f(t_start, ta);
+                t_end = max_f(t_end, tb);
             }
             float t_clear = beam_walk(L, g, centre, t_start, t_end);
             for (int m = i; m < j; m++) {
