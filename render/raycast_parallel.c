@@ -94,6 +94,21 @@ static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
     }
 }
 
+/* raycast_parallel_positions with a float first guess: the adjustment
+ * loops evaluate the tracer's exact expression, so the count is the same. */
+static inline long positions(const par_level_t *L, float t0, float t1)
+{
+    if (!(t0 <= t1))
+        return 0;
+    float est = (t1 - t0) * L->inv_base;
+    long k = est < 1e9f ? (long)est : 1000000000L;
+    while (k > 0 && t0 + (float)k * L->base > t1)
+        k--;
+    while (t0 + (float)(k + 1) * L->base <= t1)
+        k++;
+    return k + 1;
+}
+
 /* The reference's ray_begin for this ray: volume clip, then the window of
  * positions inside the occupied cells' bounding box.  False: nothing to draw. */
 static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, float py,
@@ -139,7 +154,7 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
         s->k = -(long)mip3d_floor_int(-(a - 1e-3f - s->t0) / L->base);
     if (b + 1e-3f < t1)
         t1 = b + 1e-3f;
-    s->k_last = raycast_parallel_positions(s->t0, t1, L->base) - 1;
+    s->k_last = positions(L, s->t0, t1) - 1;
     return s->k <= s->k_last;
 }
 
@@ -357,7 +372,7 @@ static void ray_end(const par_level_t *L, const par_ray_t *s, float rgb[3],
                     raycast_counts_t *counts)
 {
     long all = s->k_end >= 0 ? s->k_end
-                             : raycast_parallel_positions(s->t0, s->t1_volume, L->base);
+                             : positions(L, s->t0, s->t1_volume);
     counts->rays++;
     counts->samples += s->n_samples;
     counts->samples_skipped += (uint64_t)all - s->n_samples;
