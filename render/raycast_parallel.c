@@ -425,6 +425,13 @@ static float beam_walk(const par_level_t *L, const octree_grid_t *g, const float
 static void packets_skip(const par_level_t *L, par_ray_t *s, const bool *live, int count)
 {
     const octree_grid_t *g = L->blend;
+    /* The same rays walked backwards (u = -t, direction -dv): a beam from
+     * the far end proves the tail of the packet's window empty too. */
+    par_level_t back = *L;
+    back.dv_v = -L->dv_v;
+    back.inv_dv_v = -L->inv_dv_v;
+    back.dir_pos = L->dir_neg;
+    back.dir_neg = L->dir_pos;
     int i = 0;
     while (i < count) {
         if (!live[i]) {
@@ -460,10 +467,19 @@ static void packets_skip(const par_level_t *L, par_ray_t *s, const bool *live, i
                 t_end = max_f(t_end, tb);
             }
             float t_clear = beam_walk(L, g, centre, t_start, t_end);
+            /* Positions beyond t_tail are proven empty. */
+            float t_tail = t_clear == INFINITY ? -INFINITY
+                                                : -beam_walk(&back, g, centre, -t_end, -t_clear);
             for (int m = i; m < j; m++) {
                 if (t_clear == INFINITY) {
                     s[m].k = s[m].k_last + 1;
                     continue;
+                }
+                if (t_tail != -INFINITY) {
+                    /* One position to spare: testing more is always safe. */
+                    long kt = mip3d_floor_int((t_tail - s[m].t0) * L->inv_base) + 1;
+                    if (kt < s[m].k_last)
+                        s[m].k_last = kt;
                 }
                 float ts = s[m].t0 + (float)s[m].k * L->base;
                 if (t_clear > ts) {
