@@ -44,6 +44,8 @@ static void dilate_line(const uint8_t *in, uint8_t *out, int n, int lo, int hi)
 
 static void grid_free(octree_grid_t *g)
 {
+    free(g->block_height);
+    free(g->block_bits);
     free(g->empty_height);
     for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
         free(g->occupied[h]);
@@ -57,6 +59,48 @@ void octree_free(octree_t *o)
         grid_free(&o->exact[n]);
     }
     memset(o, 0, sizeof *o);
+}
+
+/* The 4x4x4-cell block map of octree.h from occupied[0] and empty_height.
+ * An all-empty block is the pyramid's aligned height-2 node, so its cells
+ * share one largest empty ancestor of height >= 2. */
+static pp5_status_t block_map_build(octree_grid_t *g, size_t *bytes)
+{
+    int nx = g->nx[0], ny = g->ny[0], nz = g->nz[0];
+    g->block_nx = (nx + 3) / 4;
+    g->block_ny = (ny + 3) / 4;
+    g->block_nz = (nz + 3) / 4;
+    size_t count = (size_t)g->block_nx * g->block_ny * g->block_nz;
+    g->block_height = malloc(count);
+    g->block_bits = calloc(count, sizeof *g->block_bits);
+    if (!g->block_height || !g->block_bits)
+        return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate the block map");
+    const uint8_t *occ = g->occupied[0];
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++) {
+            size_t row = ((size_t)z * ny + y) * nx;
+            for (int x = 0; x < nx; x++)
+                if (occ[row + x])
+                    g->block_bits[octree_block_index(g, x, y, z)] |=
+                        (uint64_t)1 << octree_block_bit(x, y, z);
+        }
+    for (int bz = 0; bz < g->block_nz; bz++)
+        for (int by = 0; by < g->block_ny; by++)
+            for (int bx = 0; bx < g->block_nx; bx++) {
+                size_t b = ((size_t)bz * g->block_ny + by) * g->block_nx + bx;
+                int8_t h = g->empty_height[((size_t)(4 * bz) * ny + (size_t)(4 * by)) * nx +
+                                           (size_t)(4 * bx)];
+                if (g->block_bits[b] != 0) {
+                    h = -1;
+                } else {
+                    /* A grid of one or two cells per axis has no height-2
+                     * node; its empty blocks then cover the whole grid. */
+                    PP5_ASSERT(h >= 2 || g->heights <= 2, "empty block below height 2");
+                }
+                g->block_height[b] = h;
+            }
+    *bytes += count * (1 + sizeof *g->block_bits);
+    return PP5_OK;
 }
 
 /* Per cell: -1 if occupied, else the height of its largest empty ancestor
@@ -117,6 +161,9 @@ static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
                 }
             }
     g->any_occupied = hi[0] >= 0;
+    pp5_status_t bst = block_map_build(g, bytes);
+    if (bst != PP5_OK)
+        return bst;
     int dims[3] = {nx, ny, nz};
     float scale = (float)(1 << g->level);
     for (int a = 0; a < 3 && g->any_occupied; a++) {

@@ -2,6 +2,8 @@
  * early termination, octree skipping). */
 #include "raycast.h"
 
+#include "raycast_internal.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -127,79 +129,29 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     }
 }
 
-/* Opacity of a sample standing for `spacing` object units when a has been
- * classified per unit: 1 - (1 - a)^spacing. */
-static inline float correct_alpha(const raycast_ctx_t *r, int level2d, bool perspective,
-                                  float spacing, float a)
+/* Number of sample positions t0 + k * base (k = 0, 1, ...) with t <= t1,
+ * evaluated with exactly the tracer's float expression: what a ray without
+ * skipping would visit (0 when t1 < t0). */
+long raycast_parallel_positions(float t0, float t1, float base)
 {
-    if (a >= 1.0f)
-        return 1.0f;
-    if (perspective || level2d >= RAYCAST_LUT_LEVELS)
-        return 1.0f - powf(1.0f - a, spacing);
-    float x = a * (float)RAYCAST_LUT_SIZE;
-    int i = (int)x;
-    if (i >= RAYCAST_LUT_SIZE)
-        i = RAYCAST_LUT_SIZE - 1;
-    float f = x - (float)i;
-    const float *t = r->alpha_lut[level2d];
-    return t[i] + f * (t[i + 1] - t[i]);
+    if (!(t0 <= t1))
+        return 0;
+    double est = floor(((double)t1 - (double)t0) / (double)base);
+    long k = est > 1e15 ? (long)1e15 : (long)est;
+    while (k > 0 && t0 + (float)k * base > t1)
+        k--;
+    while (t0 + (float)(k + 1) * base <= t1)
+        k++;
+    return k + 1;
 }
 
-/* Parametric interval [t0, t1] of the ray inside the box [0, hi]. */
-static bool clip_box(const float o[3], const float d[3], const float hi[3], float *t0, float *t1)
+/* The same for perspective rays, t_{k+1} = t_k * growth from t_start. */
+static long perspective_positions(float t_start, float t1, float growth)
 {
-    float a = -INFINITY, b = INFINITY;
-    for (int k = 0; k < 3; k++) {
-        if (d[k] == 0.0f) {
-            if (o[k] < 0.0f || o[k] > hi[k])
-                return false;
-            continue;
-        }
-        float ta = (0.0f - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
-        if (ta > tb) {
-            float s = ta;
-            ta = tb;
-            tb = s;
-        }
-        if (ta > a)
-            a = ta;
-        if (tb < b)
-            b = tb;
-    }
-    if (a < 0.0f)
-        a = 0.0f;
-    *t0 = a;
-    *t1 = b;
-    return a <= b;
-}
-
-/* Viewpoint-dependent shading of one sample's components: writes the
- * opacity-weighted colour and returns the opacity. */
-static inline float shade_sample(const raycast_ctx_t *r, const float *s, const float half[3],
-                                 float c[3])
-{
-    float a = s[MIP3D_A];
-    c[0] = s[MIP3D_R];
-    c[1] = s[MIP3D_G];
-    c[2] = s[MIP3D_B];
-    if (r->mip->stride == 4 || a <= 0.0f)
-        return a;
-    float n[3] = {s[MIP3D_NX], s[MIP3D_NY], s[MIP3D_NZ]};
-    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (len > 0.0f)
-        for (int k = 0; k < 3; k++)
-            n[k] /= len;
-    if (r->mip->lighting == SHADE_MOVING_OBJECT) {
-        float d = shade_diffuse(r->shade, n, r->light_obj);
-        for (int k = 0; k < 3; k++)
-            c[k] *= d;
-    }
-    if (len > 0.0f) {
-        float sp = a * shade_specular(r->shade, n, half);
-        for (int k = 0; k < 3; k++)
-            c[k] += sp;
-    }
-    return a;
+    long n = 0;
+    for (float t = t_start; t <= t1; t *= growth)
+        n++;
+    return n;
 }
 
 /* One ray's marching state, so that several rays can advance in turns (their
@@ -207,10 +159,10 @@ static inline float shade_sample(const raycast_ctx_t *r, const float *s, const f
  * lone ray would do. */
 typedef struct {
     float ov[3], dv[3], inv_dv[3], half[3];
-    float t0, t1, t, base, inv_base, growth, spacing, level3d, top;
+    float t0, t1, t1_volume, t_start, t, base, inv_base, growth, spacing, level3d, top;
     long k;
     int level2d;
-    bool perspective;
+    bool perspective, terminated;
     float acc[3], acc_a;
     uint64_t n_samples, n_skipped;
 } ray_state_t;
@@ -226,9 +178,16 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
     s->acc_a = 0.0f;
     s->n_samples = s->n_skipped = 0;
     s->level2d = level2d;
+    s->terminated = false;
+    s->t0 = s->t_start = 0.0f;
+    s->t1_volume = -1.0f;       /* no positions until the ray meets the volume */
+    s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
+    s->base = 1.0f;             /* set below for rays that meet the volume */
+    s->growth = 2.0f;
     camera_ray(cam, px, py, o, d);
-    if (!clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
+    if (!raycast_clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
         return false;
+    s->t1_volume = s->t1;
     /* Level-0 voxel coordinates along the ray: ov + t * dv. */
     for (int a = 0; a < 3; a++) {
         s->ov[a] = o[a] * cam->inv_spacing[a];
@@ -249,6 +208,7 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
     s->t = s->t0;
     if (s->perspective && s->t < 1e-3f)
         s->t = 1e-3f;
+    s->t_start = s->t;
     /* Parallel: spacing and 3DLevel are constant along the ray. */
     s->spacing = s->base;
     s->level3d = log2f(s->spacing) - r->level3d_offset;
@@ -260,10 +220,8 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
         int n = (int)s->level3d;
         const octree_grid_t *g = s->level3d == (float)n ? &r->octree->exact[n]
                                                         : &r->octree->grid[n];
-        if (!g->any_occupied) {
-            s->n_skipped += (uint64_t)((s->t1 - s->t0) / s->base) + 1;
+        if (!g->any_occupied)
             return false;
-        }
         float a = -INFINITY, b = INFINITY;
         for (int ax = 0; ax < 3; ax++) {
             if (s->dv[ax] == 0.0f)
@@ -278,7 +236,11 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
             a = fmaxf(a, ta);
             b = fminf(b, tb);
         }
-        /* Margins of 1e-3 keep rounding from dropping a boundary sample. */
+        /* Margins of 1e-3 keep rounding from dropping a boundary sample.
+         * A start beyond the end leaves nothing to sample (and would
+         * overflow the position index for near-axial rays). */
+        if (a - 1e-3f > s->t1)
+            return false;
         if (a - 1e-3f > s->t0) {
             s->k = -(long)mip3d_floor_int(-(a - 1e-3f - s->t0) / s->base);
             s->t = s->t0 + (float)s->k * s->base;
@@ -356,22 +318,10 @@ static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
     float comp[8];
     mip3d_sample(r->mip, s->level3d, p, comp);
     s->n_samples++;
-    float c[3];
-    float a = shade_sample(r, comp, s->half, c);
-    if (a > 0.0f) {
-        if (s->spacing != 1.0f) {
-            /* Opacity per unit length is fixed; a sample standing for
-             * `spacing` units has opacity 1 - (1 - a)^spacing. */
-            float ac = correct_alpha(r, s->level2d, s->perspective, s->spacing, a);
-            float scale = ac / a;
-            c[0] *= scale;
-            c[1] *= scale;
-            c[2] *= scale;
-            a = ac;
-        }
-        raycast_composite(s->acc, &s->acc_a, c, a);
-        if (s->acc_a >= r->early_termination)
-            return false;
+    if (raycast_accumulate(r, comp, s->half, s->level2d, s->perspective, s->spacing, s->acc,
+                           &s->acc_a)) {
+        s->terminated = true;
+        return false;
     }
     if (s->perspective) {
         s->t *= s->growth;
@@ -386,14 +336,23 @@ static inline void ray_end(const ray_state_t *s, float rgb[3], raycast_counts_t 
 {
     counts->rays++;
     counts->samples += s->n_samples;
-    counts->samples_skipped += s->n_skipped;
+    /* Skipped = the positions a ray without skipping would have visited
+     * (all of them in the volume unless it terminated early, when the
+     * counts already add up) minus those sampled. */
+    uint64_t skipped = s->n_skipped;
+    if (!s->terminated) {
+        long all = s->perspective ? perspective_positions(s->t_start, s->t1_volume, s->growth)
+                                  : raycast_parallel_positions(s->t0, s->t1_volume, s->base);
+        skipped = (uint64_t)all - s->n_samples;
+    }
+    counts->samples_skipped += skipped;
     rgb[0] = s->acc[0];
     rgb[1] = s->acc[1];
     rgb[2] = s->acc[2];
 }
 
-void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
-                   raycast_counts_t *counts)
+void raycast_trace_reference(const raycast_ctx_t *r, float px, float py, int level2d,
+                             float rgb[3], raycast_counts_t *counts)
 {
     ray_state_t s;
     if (ray_begin(r, px, py, level2d, &s))
@@ -402,14 +361,13 @@ void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, floa
     ray_end(&s, rgb, counts);
 }
 
-void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
-                         int level2d, float (*rgb)[3], raycast_counts_t *counts)
+/* The reference tracer, `count` rays in turns. */
+static void reference_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                            int level2d, float (*rgb)[3], raycast_counts_t *counts)
 {
     ray_state_t s[RAYCAST_BATCH];
     bool live[RAYCAST_BATCH];
     int remaining = 0;
-    if (count > RAYCAST_BATCH)
-        count = RAYCAST_BATCH;
     for (int i = 0; i < count; i++) {
         live[i] = ray_begin(r, px[i], py[i], level2d, &s[i]);
         remaining += live[i];
@@ -422,4 +380,27 @@ void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, con
             }
     for (int i = 0; i < count; i++)
         ray_end(&s[i], rgb[i], counts);
+}
+
+void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                         int level2d, float (*rgb)[3], raycast_counts_t *counts)
+{
+    if (count > RAYCAST_BATCH)
+        count = RAYCAST_BATCH;
+    if (count <= 0)
+        return;
+    if (r->octree && r->camera->projection == PROJECTION_PARALLEL)
+        raycast_parallel_batch(r, count, px, py, level2d, rgb, counts);
+    else
+        reference_batch(r, count, px, py, level2d, rgb, counts);
+}
+
+void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
+                   raycast_counts_t *counts)
+{
+    float out[1][3];
+    raycast_trace_batch(r, 1, &px, &py, level2d, out, counts);
+    rgb[0] = out[0][0];
+    rgb[1] = out[0][1];
+    rgb[2] = out[0][2];
 }

@@ -68,7 +68,11 @@ void camera_ray(const camera_t *c, float px, float py, float origin[3], float di
 typedef struct {
     uint64_t rays;
     uint64_t samples;          /* 3D samples drawn (each may blend two mip levels) */
-    uint64_t samples_skipped;  /* sample positions jumped over by the octree */
+    /* Sample positions the octree let the ray pass without drawing: those a
+     * ray without skipping would visit (all in the volume, or up to early
+     * termination) minus those drawn, so samples + samples_skipped with the
+     * octree on equals samples with it off. */
+    uint64_t samples_skipped;
 } raycast_counts_t;
 
 #define RAYCAST_LUT_LEVELS 8
@@ -95,6 +99,14 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
  * (px, py) cast for 2D mip level `level2d`. */
 void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],
                    raycast_counts_t *counts);
+
+/* The straightforward tracer the fast paths must match bit for bit: one
+ * octree query per visited sample position (octree.h), as described above.
+ * raycast_trace uses a faster traversal under parallel projection (see
+ * ARCHITECTURE.md, "Speed") that draws exactly the same samples; this one is
+ * kept as the yardstick for the tests. */
+void raycast_trace_reference(const raycast_ctx_t *r, float px, float py, int level2d,
+                             float rgb[3], raycast_counts_t *counts);
 
 /* The same for `count` (<= RAYCAST_BATCH) rays of one 2D level, advanced in
  * turns so that their latency chains overlap; each result is bit-identical to
