@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cliopt.h"
 #include "firmware/host/fw_render.h"
@@ -35,6 +36,8 @@ typedef struct {
     image8_t image;
     double display_cx, display_cy;   /* display centre, display pixels */
     double image_per_display_px;     /* image pixels per display pixel */
+    unsigned frames;                 /* frames emulated so far */
+    double emulated_s;               /* their summed emulated time */
 } machine_cost_t;
 
 typedef struct {
@@ -190,6 +193,13 @@ static pp5_status_t machine_cost_frame(void *ctx, double gaze_x, double gaze_y,
     for (unsigned k = 0; k < RING_CLASS_COUNT; k++)
         out->ring_bytes += r.ring_bytes[k];
     out->image = out->want_image ? &c->image : NULL;
+    /* Long traces take minutes of host time: say how far we are (on a
+     * terminal only, so logs and tests stay clean). */
+    c->frames++;
+    c->emulated_s += r.frame_time_s;
+    if (c->frames % 25 == 0 && isatty(STDERR_FILENO))
+        fprintf(stderr, "machine: %u frames emulated (%.1f s of trace time)\r", c->frames,
+                c->emulated_s);
     return PP5_OK;
 }
 
