@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "angles.h"
 #include "cliopt.h"
@@ -23,7 +24,8 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-        "usage: pp5 replay TRACE [options]\n\n"
+        "usage: pp5 replay TRACE [options]\n"
+        "       pp5 replay --live DEVICE [--seconds S] [options]\n\n"
         "Replays a pp5 gaze trace frame after frame: each frame starts with the newest sample\n"
         "that has arrived after the tracker latency, takes its frame time, and is shown at its\n"
         "end plus the display latency.  Reports the angle between the gaze used and the true\n"
@@ -50,6 +52,9 @@ static void usage(FILE *out)
         "  --report FILE.json       summary and parameters\n"
         "  --csv FILE.csv           one line per frame\n"
         "  --plot FILE.png          error and frame time over the trace\n"
+        "  --live DEVICE            record live gaze from DEVICE (as `pp5 track record --device`:\n"
+        "                           hid, hid:/dev/hidrawN, polhemus, polhemus:BUS:ADDR) for\n"
+        "                           --seconds S (default 10), keep it in /tmp, then replay it\n"
         "  --frames-dir DIR         write each frame's image as DIR/frame_NNNNN.png (only when\n"
         "                           the cost source renders images; the constant one does not)\n",
         REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
@@ -190,7 +195,8 @@ static int cmd_replay(int argc, char **argv)
         {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
         {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
         {"refresh-hz", required_argument, 0, 'R'}, {"gap-s", required_argument, 0, 'g'},
-        {"frames-dir", required_argument, 0, 'F'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {"frames-dir", required_argument, 0, 'F'}, {"live", required_argument, 0, 'L'},
+        {"seconds", required_argument, 0, 'S'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
     /* The emulated machine when it is built in (firmware/host/replay_machine.c
@@ -199,6 +205,7 @@ static int cmd_replay(int argc, char **argv)
     if (replay_find_cost_source("machine"))
         snprintf(cost_spec, sizeof cost_spec, "machine");
     const char *report = NULL, *csv = NULL, *plot = NULL, *frames_dir = NULL;
+    const char *live = NULL, *live_seconds = "10";
     pp5_status_t st = PP5_OK;
     double ms;
     long nf;
@@ -217,6 +224,8 @@ static int cmd_replay(int argc, char **argv)
                 snprintf(cost_spec, sizeof cost_spec, "%s", optarg);
             break;
         case 'F': frames_dir = optarg; break;
+        case 'L': live = optarg; break;
+        case 'S': st = cliopt_double("--seconds", optarg, 0.1, 86400, &ms); live_seconds = optarg; break;
         case 'R': st = cliopt_double("--refresh-hz", optarg, 0, 10000, &p.refresh_hz); break;
         case 'g': st = cliopt_double("--gap-s", optarg, 0.001, 1e6, &p.gap_s); break;
         case 't':
@@ -255,11 +264,51 @@ static int cmd_replay(int argc, char **argv)
         default: usage(stderr); return 2;
         }
     }
-    if (st == PP5_OK && optind != argc - 1)
-        st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file; see --help");
+    if (st == PP5_OK && !live && optind != argc - 1)
+        st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
+    if (st == PP5_OK && live && optind != argc)
+        st = pp5_fail(PP5_E_CONFIG, "--live records its own trace: give no TRACE file");
     if (st != PP5_OK)
         return cliopt_report("replay", st);
-    const char *path = argv[optind];
+    const char *path = live ? NULL : argv[optind];
+    char live_path[] = "/tmp/pp5-live-XXXXXX.trace";
+    if (live) {
+        /* Record first, then replay: the emulated machine runs slower than
+         * real time, so a live session is recorded (flushed as it goes, by
+         * `pp5 track record`) and then replayed frame by frame. */
+        int fd = mkstemps(live_path, 6);
+        if (fd < 0)
+            return cliopt_report("replay", pp5_fail(PP5_E_IO, "--live: cannot make a temporary "
+                                                    "trace file in /tmp"));
+        close(fd);
+        const pp5_command_t *track = pp5_find_command("track");
+        if (!track)
+            return cliopt_report("replay", pp5_fail(PP5_E_UNSUPPORTED, "--live: this build has "
+                                                    "no `pp5 track`"));
+        char *track_argv[] = {"track", "record", "--device", (char *)live, "--seconds",
+                              (char *)live_seconds, "--out", live_path, NULL};
+        fprintf(stderr, "replay: recording %s s of live gaze from %s into %s\n", live_seconds,
+                live, live_path);
+        optind = 0;
+        int rc = track->fn(8, track_argv);
+        optind = 1;
+        if (rc != 0) {
+            /* A device that stopped (timeout, unplugged) leaves what arrived:
+             * replay that, saying so, unless there is nothing to replay. */
+            trace_t partial;
+            bool usable = trace_read_file(live_path, &partial) == PP5_OK && partial.count >= 2;
+            if (usable)
+                trace_free(&partial);
+            if (!usable) {
+                fprintf(stderr, "pp5 replay: --live %s: the recording failed (see above) and "
+                        "holds too little to replay (%s)\n", live, live_path);
+                return rc;
+            }
+            fprintf(stderr, "replay: the live recording ended early (see above); replaying what "
+                    "arrived\n");
+        }
+        path = live_path;
+    }
     /* NAME[:OPTIONS] */
     char *colon = strchr(cost_spec, ':');
     const char *cost_options = "";
