@@ -24,4 +24,11 @@ void bit_transpose_planes_to_words(const uint64_t *first, size_t plane_stride, u
 void bit_transpose_words_to_planes(const uint32_t *in, unsigned bits, uint64_t *first,
                                    size_t plane_stride);
 
+/* The same with the portable 16-byte-vector kernels even where the AVX2 ones
+ * would run (the tests check both copies). */
+void bit_transpose_planes_to_words_portable(const uint64_t *first, size_t plane_stride,
+                                            unsigned bits, uint32_t *out);
+void bit_transpose_words_to_planes_portable(const uint32_t *in, unsigned bits, uint64_t *first,
+                                            size_t plane_stride);
+
 #endif

@@ -156,3 +156,33 @@ TEST(bit_transpose_index_pattern)
     CHECK_EQ(bad, 0);
     free(words);
 }
+
+/* The portable copy (what hosts without AVX2 run) on random planes, every width,
+ * odd plane strides included. */
+TEST(bit_transpose_portable_kernels)
+{
+    const size_t stride = PP_PLANE_WORDS + 3;          /* odd: unaligned plane starts */
+    uint64_t *planes = malloc(33 * stride * sizeof *planes);
+    uint64_t *before = malloc(33 * stride * sizeof *before);
+    uint32_t *words = malloc(PP_COUNT * sizeof *words);
+    REQUIRE(planes && before && words);
+    uint64_t s = 0xfeedfacecafebeefull;
+    for (size_t i = 0; i < 33 * stride; i++)
+        planes[i] = next_random(&s);
+    unsigned read_bad = 0, write_bad = 0;
+    for (unsigned bits = 1; bits <= 32; bits++) {
+        unsigned lo = bits & 1u;                         /* odd first plane for odd widths */
+        bit_transpose_planes_to_words_portable(planes + lo * stride, stride, bits, words);
+        read_bad += count_word_mismatches(planes + lo * stride, stride, bits, words);
+        for (unsigned p = 0; p < PP_COUNT; p++)
+            words[p] = (uint32_t)next_random(&s);
+        memcpy(before, planes, 33 * stride * sizeof *planes);
+        bit_transpose_words_to_planes_portable(words, bits, planes + lo * stride, stride);
+        write_bad += count_plane_mismatches(planes, before, stride, 33, lo, bits, words);
+    }
+    CHECK_EQ(read_bad, 0);
+    CHECK_EQ(write_bad, 0);
+    free(words);
+    free(before);
+    free(planes);
+}
