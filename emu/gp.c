@@ -35,11 +35,14 @@ void gp_free(gp_t *gp)
 {
     gp_drop_inbox(gp);
     free(gp->inbox);
-    gp_block_t *b = gp->blocks;
-    while (b) {
-        gp_block_t *next = b->next;
-        free(b);
-        b = next;
+    gp_block_t *lists[2] = {gp->blocks, gp->spare};
+    for (int i = 0; i < 2; i++) {
+        gp_block_t *b = lists[i];
+        while (b) {
+            gp_block_t *next = b->next;
+            free(b);
+            b = next;
+        }
     }
     memset(gp, 0, sizeof *gp);
 }
