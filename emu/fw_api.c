@@ -43,8 +43,11 @@ static gp_block_t *take_spare(gp_t *gp, size_t bytes)
     gp_block_t *best = NULL;
     for (gp_block_t *b = gp->spare; b; b = b->next) {
         if (b->capacity_bytes >= bytes && b->capacity_bytes / 2 <= bytes &&
-            (!best || b->capacity_bytes < best->capacity_bytes))
+            (!best || b->capacity_bytes < best->capacity_bytes)) {
             best = b;
+            if (b->capacity_bytes == bytes)
+                break;                      /* the usual case: a buffer of a repeated size */
+        }
     }
     if (!best)
         return NULL;
