@@ -9,7 +9,11 @@ static pp5_status_t machine_deliver(void *ctx, const ring_msg_t *msg, pp5_tick_t
 {
     machine_t *m = ctx;
     switch (msg->dst.type) {
-    case RING_NODE_GP: return gp_deliver(&m->gp[msg->dst.index], msg, now);
+    case RING_NODE_GP:
+        /* The GP keeps the ring's payload buffer instead of copying it (host speed). */
+        return gp_deliver_owned(&m->gp[msg->dst.index], msg,
+                                msg->kind == RING_MSG_HOST_LOAD ? NULL : ring_take_payload(&m->ring),
+                                now);
     case RING_NODE_RENDERER: return rnode_deliver(&m->rn[msg->dst.index], msg, now);
     case RING_NODE_FB: return fb_deliver(&m->fb, msg, now);
     default: return host_deliver(&m->host, msg, now);

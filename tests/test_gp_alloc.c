@@ -1,6 +1,6 @@
-/* test_gp_alloc.c: fw_alloc / fw_free with reuse of freed large blocks: memory
- * comes back zeroed, local-memory accounting is by requested bytes, and the
- * capacity limit is unchanged. */
+/* test_gp_alloc.c: GP host-memory handling: fw_alloc / fw_free reuse of freed large blocks (memory
+ * comes back zeroed, local-memory accounting is by requested bytes, the
+ * capacity limit is unchanged) and payloads the GP keeps from the ring. */
 #include <stdint.h>
 #include <string.h>
 
@@ -76,5 +76,71 @@ TEST(gp_alloc_reuse_zeroed_and_accounted)
     CHECK_EQ(g_checks_run, 3 * 4 + 3);
     CHECK_EQ(g_checks_failed, 0);
     CHECK_EQ(m.gp[0].mem_peak_bytes, 1024 + 70000 + 900000);
+    machine_free(&m);
+}
+
+/* Messages to a GP: the GP now keeps the ring's payload buffer instead of
+ * copying it.  Several messages in flight at once, the sender reusing its
+ * buffer right after each send: every message must arrive with its own bytes. */
+enum { XFER_MSGS = 6, XFER_BYTES = 70000 };
+static int g_xfer_received, g_xfer_bad;
+
+static uint8_t xfer_byte(unsigned msg, size_t i)
+{
+    return (uint8_t)(msg * 37u + i * 11u + (i >> 8));
+}
+
+static fw_status_t xfer_start(gp_t *gp)
+{
+    if (fw_gp_index(gp) != 0)
+        return FW_OK;
+    static uint8_t buf[XFER_BYTES];
+    for (unsigned k = 0; k < XFER_MSGS; k++) {
+        for (size_t i = 0; i < XFER_BYTES; i++)
+            buf[i] = xfer_byte(k, i);
+        uint32_t args[RING_MSG_ARGS] = {k};
+        fw_status_t st = fw_send(gp, ring_addr(RING_NODE_GP, 1), RING_MSG_GP_USER, args, buf,
+                                 XFER_BYTES - k);
+        if (st != FW_OK)
+            return st;
+    }
+    memset(buf, 0xee, sizeof buf);
+    return FW_OK;
+}
+
+static fw_status_t xfer_message(gp_t *gp, const ring_msg_t *msg)
+{
+    if (msg->kind != RING_MSG_GP_USER)
+        return FW_OK;
+    unsigned k = msg->args[0];
+    const uint8_t *p = msg->payload;
+    int bad = k >= XFER_MSGS || msg->payload_bytes != XFER_BYTES - k;
+    for (size_t i = 0; !bad && i < msg->payload_bytes; i++)
+        bad = p[i] != xfer_byte(k, i);
+    g_xfer_received++;
+    g_xfer_bad += bad;
+    return FW_OK;
+}
+
+static const fw_program_t xfer_prog = {"xfer", 1024, xfer_start, xfer_message};
+
+TEST(gp_alloc_delivered_payloads_intact)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 2;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 1, &xfer_prog, NULL, 0) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &xfer_prog, NULL, 0) == PP5_OK);
+    g_xfer_received = g_xfer_bad = 0;
+    sched_stop_t why;
+    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
+    CHECK_EQ(g_xfer_received, XFER_MSGS);
+    CHECK_EQ(g_xfer_bad, 0);
     machine_free(&m);
 }
