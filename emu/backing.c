@@ -1,6 +1,8 @@
 /* backing.c: backing-store storage (bit-sliced blocks) and its transfer channel timing. */
 #include "backing.h"
 
+#include "bit_transpose.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,24 +27,20 @@ void backing_clear(backing_t *b)
     memset(b, 0, sizeof *b);
 }
 
+/* First word of plane 0 of `block`: the block's 32 planes follow PP_PLANE_WORDS apart. */
+static uint64_t *block_planes(const backing_t *b, unsigned block)
+{
+    return (uint64_t *)&b->plane[block * PP_BS_BLOCK_BITS][0];
+}
+
 void backing_read_block(const backing_t *b, unsigned block, uint32_t *out)
 {
-    memset(out, 0, PP_COUNT * sizeof *out);
-    for (unsigned k = 0; k < PP_BS_BLOCK_BITS; k++) {
-        const uint64_t *pl = b->plane[block * PP_BS_BLOCK_BITS + k];
-        for (unsigned p = 0; p < PP_COUNT; p++)
-            out[p] |= (uint32_t)((pl[p >> 6] >> (p & 63)) & 1u) << k;
-    }
+    bit_transpose_planes_to_words(block_planes(b, block), PP_PLANE_WORDS, PP_BS_BLOCK_BITS, out);
 }
 
 void backing_write_block(backing_t *b, unsigned block, const uint32_t *in)
 {
-    for (unsigned k = 0; k < PP_BS_BLOCK_BITS; k++) {
-        uint64_t *pl = b->plane[block * PP_BS_BLOCK_BITS + k];
-        memset(pl, 0, PP_PLANE_WORDS * sizeof *pl);
-        for (unsigned p = 0; p < PP_COUNT; p++)
-            pl[p >> 6] |= (uint64_t)((in[p] >> k) & 1u) << (p & 63);
-    }
+    bit_transpose_words_to_planes(in, PP_BS_BLOCK_BITS, block_planes(b, block), PP_PLANE_WORDS);
 }
 
 void bs_channel_reset(bs_channel_t *ch)

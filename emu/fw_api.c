@@ -21,6 +21,48 @@ void gp_record_error(gp_t *gp, const char *fmt, ...)
     gp->fw_error = true;
 }
 
+/* Under ASan, spare blocks and the unrequested tail of a reused block are
+ * poisoned, so firmware overruns and uses after fw_free are still caught. */
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#define SPARE_POISON(p, n) ASAN_POISON_MEMORY_REGION((p), (n))
+#define SPARE_UNPOISON(p, n) ASAN_UNPOISON_MEMORY_REGION((p), (n))
+#else
+#define SPARE_POISON(p, n) ((void)(p), (void)(n))
+#define SPARE_UNPOISON(p, n) ((void)(p), (void)(n))
+#endif
+
+/* Blocks at least this large are kept on free for reuse: below it malloc
+ * recycles memory itself (no fresh pages). */
+#define SPARE_MIN_BYTES ((size_t)64 << 10)
+
+/* Takes the smallest spare block holding `bytes` but not more than twice that
+ * (so a small request does not pin a huge block); NULL if none. */
+static gp_block_t *take_spare(gp_t *gp, size_t bytes)
+{
+    gp_block_t *best = NULL;
+    for (gp_block_t *b = gp->spare; b; b = b->next) {
+        if (b->capacity_bytes >= bytes && b->capacity_bytes / 2 <= bytes &&
+            (!best || b->capacity_bytes < best->capacity_bytes)) {
+            best = b;
+            if (b->capacity_bytes == bytes)
+                break;                      /* the usual case: a buffer of a repeated size */
+        }
+    }
+    if (!best)
+        return NULL;
+    if (best->prev)
+        best->prev->next = best->next;
+    else
+        gp->spare = best->next;
+    if (best->next)
+        best->next->prev = best->prev;
+    gp->spare_bytes -= best->capacity_bytes;
+    SPARE_UNPOISON(best->align, bytes);
+    memset(best->align, 0, bytes);          /* fw_api.h: memory is zeroed */
+    return best;
+}
+
 void *fw_alloc(gp_t *gp, size_t bytes)
 {
     if (bytes > gp->mem_capacity_bytes - gp->mem_used_bytes) {
@@ -29,12 +71,18 @@ void *fw_alloc(gp_t *gp, size_t bytes)
                         (unsigned long long)gp->mem_used_bytes, (unsigned long long)gp->mem_capacity_bytes);
         return NULL;
     }
-    gp_block_t *b = calloc(1, sizeof *b + (bytes ? bytes : 1));
+    gp_block_t *b = bytes >= SPARE_MIN_BYTES ? take_spare(gp, bytes) : NULL;
     if (!b) {
-        gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
-        return NULL;
+        size_t capacity = bytes ? bytes : 1;
+        b = calloc(1, sizeof *b + capacity);
+        if (!b) {
+            gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
+            return NULL;
+        }
+        b->capacity_bytes = capacity;
     }
     b->bytes = bytes;
+    b->prev = NULL;
     b->next = gp->blocks;
     if (gp->blocks) {
         gp->blocks->prev = b;
@@ -62,6 +110,19 @@ void fw_free(gp_t *gp, void *p)
         b->next->prev = b->prev;
     }
     gp->mem_used_bytes -= b->bytes;
+    /* Host memory only: the emulated local memory is charged by `bytes` above. */
+    if (b->capacity_bytes >= SPARE_MIN_BYTES &&
+        gp->spare_bytes + b->capacity_bytes <= gp->mem_capacity_bytes) {
+        b->prev = NULL;
+        b->next = gp->spare;
+        if (gp->spare) {
+            gp->spare->prev = b;
+        }
+        gp->spare = b;
+        gp->spare_bytes += b->capacity_bytes;
+        SPARE_POISON(b->align, b->capacity_bytes);
+        return;
+    }
     free(b);
 }
 

@@ -35,11 +35,14 @@ void gp_free(gp_t *gp)
 {
     gp_drop_inbox(gp);
     free(gp->inbox);
-    gp_block_t *b = gp->blocks;
-    while (b) {
-        gp_block_t *next = b->next;
-        free(b);
-        b = next;
+    gp_block_t *lists[2] = {gp->blocks, gp->spare};
+    for (int i = 0; i < 2; i++) {
+        gp_block_t *b = lists[i];
+        while (b) {
+            gp_block_t *next = b->next;
+            free(b);
+            b = next;
+        }
     }
     memset(gp, 0, sizeof *gp);
 }
@@ -151,14 +154,21 @@ static pp5_status_t gp_host_load(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now
 
 pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now)
 {
+    return gp_deliver_owned(gp, msg, NULL, now);
+}
+
+pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf, pp5_tick_t now)
+{
     gp->msgs_received++;
     if (msg->kind == RING_MSG_HOST_LOAD) {
+        free(payload_buf);        /* gp_host_load copies what it keeps */
         return gp_host_load(gp, msg, now);
     }
     if (gp->inbox_count == gp->inbox_cap) {
         size_t cap = gp->inbox_cap ? gp->inbox_cap * 2 : 16;
         gp_inbox_item_t *q = malloc(cap * sizeof *q);
         if (!q) {
+            free(payload_buf);
             return pp5_fail(PP5_E_NOMEM, "GP %u: out of memory for the inbox", gp->index);
         }
         for (size_t i = 0; i < gp->inbox_count; i++) {
@@ -172,7 +182,9 @@ pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now)
     gp_inbox_item_t *it = &gp->inbox[(gp->inbox_head + gp->inbox_count) % gp->inbox_cap];
     it->msg = *msg;
     it->payload_copy = NULL;
-    if (msg->payload_bytes > 0) {
+    if (payload_buf) {
+        it->payload_copy = payload_buf;
+    } else if (msg->payload_bytes > 0) {
         it->payload_copy = malloc(msg->payload_bytes);
         if (!it->payload_copy) {
             return pp5_fail(PP5_E_NOMEM, "GP %u: out of memory for a message", gp->index);

@@ -31,7 +31,8 @@ typedef void (*gp_trace_fn)(void *ctx, const gp_t *gp, const char *what, pp5_tic
 typedef struct gp_block gp_block_t;
 struct gp_block {
     gp_block_t *next, *prev;
-    size_t bytes;
+    size_t bytes;                 /* requested (what local memory is charged) */
+    size_t capacity_bytes;        /* host bytes after the header (>= bytes when reused) */
     max_align_t align[];          /* user memory follows, suitably aligned */
 };
 
@@ -58,6 +59,11 @@ struct gp {
 
     uint64_t mem_capacity_bytes, mem_used_bytes, mem_peak_bytes;
     gp_block_t *blocks;           /* every live allocation, freed at gp_free */
+    /* Freed large blocks kept for reuse (host speed only: per-frame buffers
+     * would otherwise come back as fresh pages, zeroed by page faults, every
+     * frame); at most spare_bytes <= mem_capacity_bytes, freed at gp_free. */
+    gp_block_t *spare;
+    uint64_t spare_bytes;
     void *state;
     const void *host_data;
     size_t host_data_bytes;
@@ -84,6 +90,9 @@ void gp_free(gp_t *gp);
 void gp_set_program(gp_t *gp, const fw_program_t *prog);
 /* A ring message for this GP arrived at `now`. */
 pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now);
+/* The same, taking ownership of `payload_buf` (malloc'd, holding msg->payload's
+ * bytes, e.g. from ring_take_payload) instead of copying; NULL: copy. */
+pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf, pp5_tick_t now);
 /* Charge raw cycles (used by the firmware API for sends). */
 void gp_charge_cycles(gp_t *gp, uint64_t cycles);
 bool gp_busy(const gp_t *gp, pp5_tick_t now);

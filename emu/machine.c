@@ -9,7 +9,11 @@ static pp5_status_t machine_deliver(void *ctx, const ring_msg_t *msg, pp5_tick_t
 {
     machine_t *m = ctx;
     switch (msg->dst.type) {
-    case RING_NODE_GP: return gp_deliver(&m->gp[msg->dst.index], msg, now);
+    case RING_NODE_GP:
+        /* The GP keeps the ring's payload buffer instead of copying it (host speed). */
+        return gp_deliver_owned(&m->gp[msg->dst.index], msg,
+                                msg->kind == RING_MSG_HOST_LOAD ? NULL : ring_take_payload(&m->ring),
+                                now);
     case RING_NODE_RENDERER: return rnode_deliver(&m->rn[msg->dst.index], msg, now);
     case RING_NODE_FB: return fb_deliver(&m->fb, msg, now);
     default: return host_deliver(&m->host, msg, now);
@@ -312,8 +316,16 @@ static pp5_tick_t machine_last_activity(const machine_t *m)
 pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
 {
     pp5_tick_t start = m->sched.now;
-    pp5_tick_t budget_end = start + (pp5_tick_t)(m->params.sim_budget_s * 1e12);
+    /* Setup has its own bound: it is not a frame, and the once-per-sequence
+     * work (e.g. building the 3D mip map) can take far longer than one. */
+    pp5_tick_t budget_end = start + (pp5_tick_t)(m->params.sim_setup_budget_s * 1e12);
     pp5_status_t st = sched_run_budget(&m->sched, budget_end, stop);
+    if (st != PP5_OK && *stop == SCHED_STOP_BUDGET_EXCEEDED) {
+        char why[512];
+        snprintf(why, sizeof why, "%s", pp5_error_text());
+        st = pp5_fail(st, "setup ran past sim.setup_budget_s = %g s: %s",
+                      m->params.sim_setup_budget_s, why);
+    }
     if (st != PP5_OK && m->pool_running) {
         rpool_stop(&m->pool);
         m->pool_running = false;

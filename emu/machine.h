@@ -6,8 +6,8 @@
  * n_r - j hops to the FB and a GP's command to renderer j travels
  * n_gp - g + j hops.
  *
- * machine_run_setup runs the loads (HOST_LOAD, on_start) to completion and
- * is not a frame.  A frame starts with the host sending FRAME_START to every
+ * machine_run_setup runs the loads (HOST_LOAD, on_start) to completion (or
+ * until its own budget sim.setup_budget_s is exceeded) and is not a frame.  A frame starts with the host sending FRAME_START to every
  * GP (in GP order) and runs until the event queue is empty (IDLE: all work done) or the
  * emulated-time budget sim.budget_s is exceeded (BUDGET_EXCEEDED, naming the
  * busy units) or a unit reports a firmware error (FIRMWARE_ERROR).  The frame

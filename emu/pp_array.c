@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bit_transpose.h"
 #include "pp_simd.h"
 
 /* Kernels work on blocks of 16 words (1024 PPs) so that carries, enables and
@@ -157,22 +158,17 @@ void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, in
     }
 }
 
+/* Words from one pixel-memory plane to the next (planes are padded, see pp_array.h). */
+#define MEM_STRIDE_WORDS (sizeof ((pp_array_t *)0)->mem[0] / sizeof(uint64_t))
+
 void pp_array_read_field(const pp_array_t *a, unsigned addr, unsigned bits, uint32_t *out)
 {
-    memset(out, 0, PP_COUNT * sizeof *out);
-    for (unsigned k = 0; k < bits; k++) {
-        const uint64_t *pl = a->mem[addr + k];
-        for (unsigned p = 0; p < PP_COUNT; p++)
-            out[p] |= (uint32_t)pp_array_bit(pl, p) << k;
-    }
+    bit_transpose_planes_to_words(&a->mem[0][0] + addr * MEM_STRIDE_WORDS, MEM_STRIDE_WORDS,
+                                  bits, out);
 }
 
 void pp_array_write_field(pp_array_t *a, unsigned addr, unsigned bits, const uint32_t *in)
 {
-    for (unsigned k = 0; k < bits; k++) {
-        uint64_t *pl = a->mem[addr + k];
-        memset(pl, 0, PP_PLANE_WORDS * sizeof *pl);
-        for (unsigned p = 0; p < PP_COUNT; p++)
-            pl[p >> 6] |= (uint64_t)((in[p] >> k) & 1u) << (p & 63);
-    }
+    bit_transpose_words_to_planes(in, bits, &a->mem[0][0] + addr * MEM_STRIDE_WORDS,
+                                  MEM_STRIDE_WORDS);
 }

@@ -76,7 +76,8 @@ static pp5_status_t item_payload(rnode_item_t *it, const renderer_node_t *n, siz
     return PP5_OK;
 }
 
-/* Prepare a reply message whose payload is a copy of `bytes` of `data`. */
+/* Prepare a reply message whose payload is a copy of `bytes` of `data`
+ * (data NULL: the caller fills it->reply_payload itself). */
 static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint32_t reply_to, uint32_t kind,
                                uint32_t cls, const void *data, size_t bytes)
 {
@@ -85,7 +86,9 @@ static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint3
         snprintf(it->err, sizeof it->err, "renderer %u: out of memory for a %zu-byte reply", n->index, bytes);
         return PP5_E_NOMEM;
     }
-    memcpy(it->reply_payload, data, bytes);
+    if (data) {
+        memcpy(it->reply_payload, data, bytes);
+    }
     memset(&it->reply, 0, sizeof it->reply);
     it->reply.src = ring_addr(RING_NODE_RENDERER, n->index);
     it->reply.dst = ring_addr_unpack(reply_to);
@@ -142,23 +145,32 @@ static pp5_status_t rnode_apply_inner(renderer_node_t *n, rnode_item_t *it)
         break;
     case RING_MSG_RENDERER_READ_FIELD:
         it->what = "read_field";
-        if (renderer_read_field(&n->r, m->args[0], m->args[1], n->scratch) != PP5_OK) {
+        /* Read straight into the reply (host speed: no 64 KB copy via scratch). */
+        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, NULL,
+                        (size_t)PP_COUNT * 4);
+        if (st != PP5_OK) {
+            return st;
+        }
+        if (renderer_read_field(&n->r, m->args[0], m->args[1], it->reply_payload) != PP5_OK) {
+            it->has_reply = false;
             return item_fail(it, n, "RENDERER_READ_FIELD");
         }
         port = (uint64_t)m->args[1] * n->cycles_per_bit;
-        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, n->scratch,
-                        (size_t)PP_COUNT * 4);
         it->reply.args[0] = m->args[3];
         it->reply.args[1] = m->args[1];
         break;
     case RING_MSG_RENDERER_READ_BS:
         it->what = "read_bs";
-        if (renderer_bs_read(&n->r, m->args[0], n->scratch) != PP5_OK) {
+        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, NULL,
+                        (size_t)PP_COUNT * 4);
+        if (st != PP5_OK) {
+            return st;
+        }
+        if (renderer_bs_read(&n->r, m->args[0], it->reply_payload) != PP5_OK) {
+            it->has_reply = false;
             return item_fail(it, n, "RENDERER_READ_BS");
         }
         port = 32ull * n->cycles_per_bit;
-        st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, n->scratch,
-                        (size_t)PP_COUNT * 4);
         it->reply.args[0] = m->args[3];
         it->reply.args[1] = 32;
         break;

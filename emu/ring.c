@@ -65,6 +65,13 @@ unsigned ring_hops(const ring_t *r, unsigned src_pos, unsigned dst_pos)
     return (dst_pos + r->n_nodes - src_pos) % r->n_nodes;
 }
 
+void *ring_take_payload(ring_t *r)
+{
+    void *p = r->arriving_payload;
+    r->arriving_payload = NULL;
+    return p;
+}
+
 static pp5_status_t ring_arrive(void *ctx, uint64_t slot, pp5_tick_t now)
 {
     ring_t *r = ctx;
@@ -78,8 +85,10 @@ static pp5_status_t ring_arrive(void *ctx, uint64_t slot, pp5_tick_t now)
     if (now > r->last_arrival) {
         r->last_arrival = now;
     }
+    r->arriving_payload = payload;
     pp5_status_t st = r->deliver ? r->deliver(r->deliver_ctx, &msg, now) : PP5_OK;
-    free(payload);
+    free(r->arriving_payload);             /* unless the receiver took it */
+    r->arriving_payload = NULL;
     r->flights[slot].payload_copy = NULL;
     r->flights[slot].in_use = 0;
     r->free_slots[r->n_free++] = (uint32_t)slot;

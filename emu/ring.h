@@ -87,6 +87,7 @@ typedef struct {
     void *deliver_ctx;
     ring_trace_fn trace;
     void *trace_ctx;
+    void *arriving_payload;        /* during a deliver callback: the payload's buffer (ring_take_payload) */
     ring_flight_t *flights;        /* in-flight messages, index = event arg */
     uint32_t *free_slots;
     size_t n_flights, n_free;
@@ -106,6 +107,10 @@ typedef struct {
 pp5_status_t ring_init(ring_t *r, const ring_config_t *cfg, sched_t *sched,
                        ring_deliver_fn deliver, void *deliver_ctx);
 void ring_free(ring_t *r);
+/* Only inside the deliver callback: hands the delivered message's payload
+ * buffer (the ring's own copy, msg->payload) to the caller, who must free()
+ * it; NULL when there is none or it was taken.  Saves the receiver a copy. */
+void *ring_take_payload(ring_t *r);
 
 /* Wire bytes of a message (header + payload). */
 uint64_t ring_wire_bytes(const ring_t *r, const ring_msg_t *msg);

@@ -9,8 +9,6 @@
 #include "firmware/common/vr_shade_fixed.h"
 #include "stats.h"
 
-#define FW_SETUP_BUDGET_S 3600.0
-
 static const char *const phase_names[FW_PHASE_COUNT] = {
     "host frame start", "GP prep (2DLevel, marks, footprint)", "PP shading (wait)",
     "ring fetch of shaded bricks (wait)", "GP receive/forward/shade", "GP ray casting",
@@ -220,16 +218,11 @@ pp5_status_t fw_session_init(fw_session_t *s, const volume_t *v, const classify_
         }
     }
     sched_stop_t stop = SCHED_STOP_IDLE;
-    /* sim.budget_s bounds one frame; the once-per-sequence mip-map build is
-     * minutes of work on the paper's workstation (§6: 5 minutes), so the
-     * setup run gets its own bound (FW_SETUP_BUDGET_S), then the frame budget
-     * is restored. */
-    double frame_budget = s->m.params.sim_budget_s;
-    if (s->m.params.sim_budget_s < FW_SETUP_BUDGET_S)
-        s->m.params.sim_budget_s = FW_SETUP_BUDGET_S;
+    /* The once-per-sequence mip-map build is minutes of work on the paper's
+     * workstation (§6: 5 minutes); machine_run_setup bounds it by
+     * sim.setup_budget_s, while sim.budget_s bounds each frame. */
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
-    s->m.params.sim_budget_s = frame_budget;
     if (st == PP5_OK && stop != SCHED_STOP_IDLE)
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: setup stopped (%s)", sched_stop_name(stop));
     s->setup_s = ticks_to_s(s->m.setup_ps);

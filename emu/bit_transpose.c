@@ -1,0 +1,83 @@
+/* bit_transpose.c: bit planes <-> one uint32 per PP by word-parallel 32x32 bit-matrix transposes. */
+#include "bit_transpose.h"
+
+#include <stdbool.h>
+#include <string.h>
+
+#include "pp_params.h"
+#include "pp_simd.h"
+
+/* Plane words handled per pass: one 64-byte cache line of each plane, so the
+ * 32 planes (2 KB apart in backing_t, which maps them onto two L1 sets) are each
+ * touched once per line rather than once per word. */
+#define TILE_WORDS 8u
+
+/* The kernels transpose, in every 64-bit lane, the two 32x32 bit matrices held
+ * in rows x[0..31] (matrix h is bits 32h..32h+31 of every row): bit j of row i
+ * moves to bit i of row j.  Stage s swaps the off-diagonal s x s sub-blocks of
+ * every 2s x 2s block; the masks are the low s bits of every 2s-bit group,
+ * repeated in both halves, and shifts by s < 32 under those masks never carry
+ * bits between the halves.  Rows are plane words going in (row k = bit k of
+ * 64 PPs), so coming out row j holds PP j (low half) and PP 32 + j (high). */
+#if PP_HAVE_AVX2_COPY
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define KN(name) name##_avx2
+#define VEC_BYTES 32
+#include "bit_transpose_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+#pragma GCC pop_options
+#endif
+
+#define KN(name) name##_base
+#define VEC_BYTES 16
+#include "bit_transpose_kernels.inc"
+#undef KN
+#undef VEC_BYTES
+
+/* Host-speed choice only: both copies compute the same bits. */
+static bool use_avx2(void)
+{
+#if PP_HAVE_AVX2_COPY
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+void bit_transpose_planes_to_words(const uint64_t *first, size_t plane_stride, unsigned bits,
+                                   uint32_t *out)
+{
+#if PP_HAVE_AVX2_COPY
+    if (use_avx2()) {
+        planes_to_words_avx2(first, plane_stride, bits, out);
+        return;
+    }
+#endif
+    planes_to_words_base(first, plane_stride, bits, out);
+}
+
+void bit_transpose_words_to_planes(const uint32_t *in, unsigned bits, uint64_t *first,
+                                   size_t plane_stride)
+{
+#if PP_HAVE_AVX2_COPY
+    if (use_avx2()) {
+        words_to_planes_avx2(in, bits, first, plane_stride);
+        return;
+    }
+#endif
+    words_to_planes_base(in, bits, first, plane_stride);
+}
+
+void bit_transpose_planes_to_words_portable(const uint64_t *first, size_t plane_stride,
+                                            unsigned bits, uint32_t *out)
+{
+    planes_to_words_base(first, plane_stride, bits, out);
+}
+
+void bit_transpose_words_to_planes_portable(const uint32_t *in, unsigned bits, uint64_t *first,
+                                            size_t plane_stride)
+{
+    words_to_planes_base(in, bits, first, plane_stride);
+}

@@ -1,0 +1,146 @@
+/* test_gp_alloc.c: GP host-memory handling: fw_alloc / fw_free reuse of freed large blocks (memory
+ * comes back zeroed, local-memory accounting is by requested bytes, the
+ * capacity limit is unchanged) and payloads the GP keeps from the ring. */
+#include <stdint.h>
+#include <string.h>
+
+#include "harness.h"
+#include "machine.h"
+
+static int g_checks_failed, g_checks_run;
+
+static void expect(int ok)
+{
+    g_checks_run++;
+    g_checks_failed += !ok;
+}
+
+static int all_zero(const uint8_t *p, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (p[i])
+            return 0;
+    return 1;
+}
+
+/* Runs on GP 0 at setup: allocation patterns of a frame loop. */
+static fw_status_t churn_start(gp_t *gp)
+{
+    const size_t big = 300000, image = 1024;
+    for (int round = 0; round < 3; round++) {
+        uint8_t *a = fw_alloc(gp, big);
+        uint8_t *b = fw_alloc(gp, big - 1000 * (size_t)round);   /* slightly smaller each round */
+        expect(a && b);
+        if (!a || !b)
+            return FW_OK;
+        expect(all_zero(a, big) && all_zero(b, big - 1000 * (size_t)round));
+        expect(fw_mem_used_bytes(gp) == image + 2 * big - 1000 * (uint64_t)round);
+        memset(a, 0xa5, big);
+        memset(b, 0x5a, big - 1000 * (size_t)round);
+        fw_free(gp, b);
+        fw_free(gp, a);
+        expect(fw_mem_used_bytes(gp) == image);
+    }
+    /* A much smaller request must not be served from (and dirty) a big block,
+     * and still comes back zeroed. */
+    uint8_t *small = fw_alloc(gp, 70000);
+    expect(small && all_zero(small, 70000));
+    /* The capacity limit counts live bytes only, never the kept spare blocks:
+     * 1024 + 70000 + 900000 <= 1000000. */
+    uint8_t *large = fw_alloc(gp, 900000);
+    expect(large && all_zero(large, 900000));
+    expect(fw_mem_used_bytes(gp) == image + 70000 + 900000);
+    fw_free(gp, large);
+    fw_free(gp, small);
+    return FW_OK;
+}
+
+static const fw_program_t churn_prog = {"churn", 1024, churn_start, NULL};
+
+TEST(gp_alloc_reuse_zeroed_and_accounted)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    p.gp_local_mem_bytes = 1000000;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &churn_prog, NULL, 0) == PP5_OK);
+    g_checks_failed = g_checks_run = 0;
+    sched_stop_t why;
+    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
+    CHECK_EQ(g_checks_run, 3 * 4 + 3);
+    CHECK_EQ(g_checks_failed, 0);
+    CHECK_EQ(m.gp[0].mem_peak_bytes, 1024 + 70000 + 900000);
+    machine_free(&m);
+}
+
+/* Messages to a GP: the GP now keeps the ring's payload buffer instead of
+ * copying it.  Several messages in flight at once, the sender reusing its
+ * buffer right after each send: every message must arrive with its own bytes. */
+enum { XFER_MSGS = 6, XFER_BYTES = 70000 };
+static int g_xfer_received, g_xfer_bad;
+
+static uint8_t xfer_byte(unsigned msg, size_t i)
+{
+    return (uint8_t)(msg * 37u + i * 11u + (i >> 8));
+}
+
+static fw_status_t xfer_start(gp_t *gp)
+{
+    if (fw_gp_index(gp) != 0)
+        return FW_OK;
+    static uint8_t buf[XFER_BYTES];
+    for (unsigned k = 0; k < XFER_MSGS; k++) {
+        for (size_t i = 0; i < XFER_BYTES; i++)
+            buf[i] = xfer_byte(k, i);
+        uint32_t args[RING_MSG_ARGS] = {k};
+        fw_status_t st = fw_send(gp, ring_addr(RING_NODE_GP, 1), RING_MSG_GP_USER, args, buf,
+                                 XFER_BYTES - k);
+        if (st != FW_OK)
+            return st;
+    }
+    memset(buf, 0xee, sizeof buf);
+    return FW_OK;
+}
+
+static fw_status_t xfer_message(gp_t *gp, const ring_msg_t *msg)
+{
+    if (msg->kind != RING_MSG_GP_USER)
+        return FW_OK;
+    unsigned k = msg->args[0];
+    const uint8_t *p = msg->payload;
+    int bad = k >= XFER_MSGS || msg->payload_bytes != XFER_BYTES - k;
+    for (size_t i = 0; !bad && i < msg->payload_bytes; i++)
+        bad = p[i] != xfer_byte(k, i);
+    g_xfer_received++;
+    g_xfer_bad += bad;
+    return FW_OK;
+}
+
+static const fw_program_t xfer_prog = {"xfer", 1024, xfer_start, xfer_message};
+
+TEST(gp_alloc_delivered_payloads_intact)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 2;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 1, &xfer_prog, NULL, 0) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &xfer_prog, NULL, 0) == PP5_OK);
+    g_xfer_received = g_xfer_bad = 0;
+    sched_stop_t why;
+    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
+    CHECK_EQ(g_xfer_received, XFER_MSGS);
+    CHECK_EQ(g_xfer_bad, 0);
+    machine_free(&m);
+}
