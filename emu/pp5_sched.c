@@ -128,6 +128,7 @@ pp5_status_t sched_run_until(sched_t *s, pp5_tick_t t_end, sched_stop_t *reason)
 
 pp5_status_t sched_run_budget(sched_t *s, pp5_tick_t budget_end, sched_stop_t *reason)
 {
+    pp5_tick_t started = s->now;
     pp5_status_t st = sched_run_until(s, budget_end, reason);
     if (st != PP5_OK || *reason != SCHED_STOP_REACHED) {
         return st;
@@ -137,6 +138,8 @@ pp5_status_t sched_run_budget(sched_t *s, pp5_tick_t budget_end, sched_stop_t *r
     if (s->describe_busy) {
         s->describe_busy(s->describe_ctx, busy, sizeof busy);
     }
-    return pp5_fail(PP5_E_RANGE, "emulated-time budget of %.6g s exceeded with %zu events pending; busy: %s",
-                    ticks_to_s(budget_end), s->count, busy[0] ? busy : "(no unit description)");
+    return pp5_fail(PP5_E_RANGE, "emulated-time budget of %.6g s (run from %.6g s to %.6g s) "
+                    "exceeded with %zu events pending; busy: %s",
+                    ticks_to_s(budget_end - started), ticks_to_s(started), ticks_to_s(budget_end),
+                    s->count, busy[0] ? busy : "(no unit description)");
 }
