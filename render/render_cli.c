@@ -83,7 +83,7 @@ pp5_status_t render_write_mip_levels(const mip2d_t *m, const char *prefix)
     return PP5_OK;
 }
 
-static pp5_status_t load_input(render_cli_t *c, scene_t *sc, FILE *log)
+pp5_status_t render_cli_load_input(const render_cli_t *c, scene_t *sc, FILE *log)
 {
     memset(sc, 0, sizeof *sc);
     pp5_status_t st;
@@ -131,7 +131,7 @@ static void report_stats(json_writer_t *j, const char *key, const render_stats_t
 pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
 {
     scene_t sc;
-    pp5_status_t st = load_input(c, &sc, log);
+    pp5_status_t st = render_cli_load_input(c, &sc, log);
     if (st != PP5_OK)
         return st;
     render_settings_t s = c->settings;

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 #include "renderer_native.h"
+#include "scene.h"
 
 typedef enum { RENDER_INPUT_PHANTOM, RENDER_INPUT_DATASET, RENDER_INPUT_FILE } render_input_t;
 
@@ -24,6 +25,9 @@ typedef struct {
 
 void render_cli_defaults(render_cli_t *c);
 pp5_status_t render_cli_run(render_cli_t *c, FILE *log);
+/* Loads the command's input (phantom, shared dataset or file) into a scene,
+ * noting a fallback on `log`; used by the machine path too. */
+pp5_status_t render_cli_load_input(const render_cli_t *c, scene_t *sc, FILE *log);
 
 /* Figure 5: target and quantized resolution against distance from the gaze
  * point, for the display model of `g`. */

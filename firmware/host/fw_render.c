@@ -76,35 +76,6 @@ int fw_render_filter_args(int argc, char **argv, fw_render_opts_t *o, pp5_status
     return out;
 }
 
-pp5_status_t fw_load_input(const render_cli_t *c, scene_t *sc, FILE *log)
-{
-    memset(sc, 0, sizeof *sc);
-    pp5_status_t st;
-    if (c->input == RENDER_INPUT_PHANTOM || c->input == RENDER_INPUT_DATASET) {
-        st = scene_load(c->input_name, c->input == RENDER_INPUT_DATASET, sc);
-        if (st == PP5_OK && sc->fell_back)
-            fprintf(log, "note: %s\n", sc->note);
-        return st;
-    }
-    volume_raw_spec_t spec = c->raw;
-    const volume_raw_spec_t *raw = NULL;
-    if (c->have_raw) {
-        raw = &spec;
-    } else if (volume_raw_spec_from_name(c->input_name, &spec) == PP5_OK) {
-        if (c->have_spacing)
-            memcpy(spec.spacing, c->raw.spacing, sizeof spec.spacing);
-        raw = &spec;
-    }
-    st = volume_load(c->input_name, raw, &sc->volume);
-    if (st != PP5_OK)
-        return st;
-    if (c->have_spacing)
-        memcpy(sc->volume.spacing, c->raw.spacing, sizeof sc->volume.spacing);
-    snprintf(sc->name, sizeof sc->name, "file");
-    scene_guess_tf(&sc->volume, &sc->tf);
-    return PP5_OK;
-}
-
 static void write_frame_json(json_writer_t *j, const fw_session_t *s, const fw_frame_result_t *r)
 {
     json_kv_double(j, "frame_time_s", r->frame_time_s);
@@ -241,7 +212,7 @@ static void print_frame(FILE *log, const fw_session_t *s, const fw_frame_result_
 pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE *log)
 {
     scene_t sc;
-    pp5_status_t st = fw_load_input(c, &sc, log);
+    pp5_status_t st = render_cli_load_input(c, &sc, log);
     if (st != PP5_OK)
         return st;
     render_settings_t rs = c->settings;

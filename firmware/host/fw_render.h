@@ -26,8 +26,6 @@ int fw_render_filter_args(int argc, char **argv, fw_render_opts_t *o, pp5_status
 pp5_status_t fw_render_cli_run(render_cli_t *c, const fw_render_opts_t *o, FILE *log);
 const char *fw_render_help(void);
 
-/* Loads the command's input like `pp5 render` does. */
-pp5_status_t fw_load_input(const render_cli_t *c, scene_t *sc, FILE *log);
 /* The image comparison printed by `pp5 render --machine` (also in the report). */
 typedef struct {
     bool have;

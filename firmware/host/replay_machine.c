@@ -95,7 +95,7 @@ static pp5_status_t load_volume(const machine_cost_opts_t *o, machine_cost_t *c)
     cli.input = strcmp(o->volume, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
     cli.input_name = strcmp(o->volume, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
     scene_t sc;
-    pp5_status_t st = fw_load_input(&cli, &sc, stderr);
+    pp5_status_t st = render_cli_load_input(&cli, &sc, stderr);
     if (st != PP5_OK)
         return st;
     c->tf = sc.tf;
