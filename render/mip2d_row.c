@@ -1,0 +1,204 @@
+/* mip2d_row.c: row-at-a-time 2DLevel, texel marking and RenderPixel (see
+ * mip2d_row.h); each fast path does the reference's arithmetic, only less
+ * often, so results are bit-identical. */
+#include "mip2d_row.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "renderer_native.h"
+
+/* Distance used by the renderer: exactly the reference's expression. */
+static inline double level_radius(int x, double dy2, double gaze_x, double scale)
+{
+    double dx = (double)x - gaze_x;
+    return sqrt(dx * dx + dy2) / scale;
+}
+
+void gaze_level_row_reference(const gaze_model_t *g, int y, int width, double gaze_x,
+                              double gaze_y, double scale, float *levels)
+{
+    for (int x = 0; x < width; x++) {
+        double dx = (double)x - gaze_x, dy = (double)y - gaze_y;
+        levels[x] = gaze_level(g, sqrt(dx * dx + dy * dy) / scale);
+    }
+}
+
+/* Why this is exact: every step of level_radius (subtraction, square, sum,
+ * sqrt, division by a positive scale) is a correctly rounded, monotone
+ * operation, so r never decreases as x moves away from the gaze column.  The
+ * pixels at the periphery level (r >= r_max_px, where gaze_level returns
+ * level_edge without computing anything) are therefore a prefix and a
+ * suffix of the row, found by binary search; only the pixels between are
+ * evaluated, with the reference's own expression. */
+void gaze_level_row(const gaze_model_t *g, int y, int width, double gaze_x, double gaze_y,
+                    double scale, float *levels)
+{
+    double dy = (double)y - gaze_y;
+    double dy2 = dy * dy;
+    /* First x whose dx is >= 0 (the right half, where r grows with x). */
+    int split;
+    if (!(gaze_x > 0.0))
+        split = 0;
+    else if (gaze_x > (double)width)
+        split = width;
+    else
+        split = (int)ceil(gaze_x);
+    /* Left half [0, split): r falls with x; find the first x with r < r_max. */
+    int lo = 0, hi = split;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (level_radius(mid, dy2, gaze_x, scale) >= g->r_max_px)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    int x_begin = lo;
+    /* Right half [split, width): r grows with x; first x with r >= r_max. */
+    lo = split;
+    hi = width;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (level_radius(mid, dy2, gaze_x, scale) >= g->r_max_px)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    int x_end = lo;
+    /* r_max_px > r_zero_px, so these pixels take gaze_level's second branch. */
+    for (int x = 0; x < x_begin; x++)
+        levels[x] = g->level_edge;
+    for (int x = x_begin; x < x_end; x++)
+        levels[x] = gaze_level(g, level_radius(x, dy2, gaze_x, scale));
+    for (int x = x_end; x < width; x++)
+        levels[x] = g->level_edge;
+}
+
+/* need[] of texel row j of level l: columns i0..i1 set. */
+static void mark_span(mip2d_t *m, int l, int x0, int x1, int y)
+{
+    /* mark_level (gaze2d.c) sets, per pixel x, texel x >> l and, when x has a
+     * fractional part at level l, texel (x >> l) + 1; in both texel rows
+     * y >> l and (if y has a fractional part) the next one.  Over x0..x1
+     * (inclusive) that union is x0 >> l .. x1 >> l, plus one more when x1
+     * itself has a fractional part (the block x1 falls in starts before x1
+     * and has no other member later than x1). */
+    int mask = (1 << l) - 1;
+    int i0 = x0 >> l, i1 = (x1 >> l) + ((x1 & mask) != 0);
+    int j = y >> l;
+    int w = m->w[l];
+    size_t n = (size_t)(i1 - i0 + 1);
+    memset(m->need[l] + (size_t)j * w + i0, 1, n);
+    if (y & mask)
+        memset(m->need[l] + (size_t)(j + 1) * w + i0, 1, n);
+}
+
+bool mip2d_mark_row_runs(mip2d_t *m, int y, const float *levels, int width)
+{
+    bool full = true;
+    int x0 = 0;
+    while (x0 < width) {
+        float level = levels[x0];
+        int x1 = x0;
+        while (x1 + 1 < width && levels[x1 + 1] == level)
+            x1++;
+        if (level != 0.0f)
+            full = false;
+        /* The branch structure of mip2d_mark_pixel; level 0 lands on its own
+         * texel, which mark_span at l = 0 reproduces. */
+        int l = (int)level;
+        if (l >= m->levels)
+            l = m->levels - 1;
+        mark_span(m, l, x0, x1, y);
+        if (level > (float)l && l + 1 < m->levels)
+            mark_span(m, l + 1, x0, x1, y);
+        x0 = x1 + 1;
+    }
+    return full;
+}
+
+void mip2d_render_row_reference(const mip2d_t *m, int y, const float *levels, int width,
+                                uint8_t *rgb)
+{
+    for (int x = 0; x < width; x++) {
+        float c[3];
+        mip2d_pixel(m, x, y, levels[x], c);
+        rgb[3 * x + 0] = render_to_u8(c[0]);
+        rgb[3 * x + 1] = render_to_u8(c[1]);
+        rgb[3 * x + 2] = render_to_u8(c[2]);
+    }
+}
+
+/* bilerp() of gaze2d.c for pixel x of a row whose texel row pointer, row
+ * stride and vertical weight are known: the same expressions in the same
+ * order (the build uses -std=c11, so no contraction into FMAs). */
+static inline void bilerp_in_row(const float *row0, size_t stride3, int l, int x, float v,
+                                 float out[3])
+{
+    int i = x >> l;
+    float s = (float)(1 << l);
+    float u = (float)(x - (i << l)) / s;
+    const float *c00 = row0 + (size_t)i * 3;
+    const float *c10 = u > 0.0f ? c00 + 3 : c00;
+    const float *c01 = v > 0.0f ? c00 + stride3 : c00;
+    const float *c11 = (u > 0.0f && v > 0.0f) ? c00 + stride3 + 3 : (u > 0.0f ? c10 : c01);
+    for (int k = 0; k < 3; k++) {
+        float a = c00[k] + u * (c10[k] - c00[k]);
+        float b = c01[k] + u * (c11[k] - c01[k]);
+        out[k] = a + v * (b - a);
+    }
+}
+
+void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, uint8_t *rgb)
+{
+    /* Per level: the texel row, stride and vertical weight of this image row
+     * (bilerp's j and v), computed once per row instead of per pixel. */
+    const float *row0[MIP2D_MAX_LEVELS];
+    size_t stride3[MIP2D_MAX_LEVELS];
+    float vw[MIP2D_MAX_LEVELS];
+    for (int l = 0; l < m->levels; l++) {
+        int j = y >> l;
+        float s = (float)(1 << l);
+        vw[l] = (float)(y - (j << l)) / s;
+        stride3[l] = (size_t)m->w[l] * 3;
+        row0[l] = m->rgb[l] + (size_t)j * stride3[l];
+    }
+    int x0 = 0;
+    while (x0 < width) {
+        float level = levels[x0];
+        int x1 = x0 + 1;
+        while (x1 < width && levels[x1] == level)
+            x1++;
+        int lo = (int)level;
+        if (lo >= m->levels)
+            lo = m->levels - 1;
+        float t = level - (float)lo;
+        bool blend = t > 0.0f && lo + 1 < m->levels;
+        if (lo == 0 && !blend) {
+            /* Level 0 at weight u = v = 0: bilerp returns c00 + 0 * 0 terms,
+             * i.e. the texel itself for any finite colour (a -0 texel
+             * becomes +0, the same byte). */
+            const float *src = row0[0];
+            for (int x = x0; x < x1; x++) {
+                rgb[3 * x + 0] = render_to_u8(src[3 * x + 0]);
+                rgb[3 * x + 1] = render_to_u8(src[3 * x + 1]);
+                rgb[3 * x + 2] = render_to_u8(src[3 * x + 2]);
+            }
+        } else {
+            for (int x = x0; x < x1; x++) {
+                float c[3];
+                bilerp_in_row(row0[lo], stride3[lo], lo, x, vw[lo], c);
+                if (blend) {
+                    float hi[3];
+                    bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1], hi);
+                    for (int k = 0; k < 3; k++)
+                        c[k] += t * (hi[k] - c[k]);
+                }
+                rgb[3 * x + 0] = render_to_u8(c[0]);
+                rgb[3 * x + 1] = render_to_u8(c[1]);
+                rgb[3 * x + 2] = render_to_u8(c[2]);
+            }
+        }
+        x0 = x1;
+    }
+}
