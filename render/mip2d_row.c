@@ -68,8 +68,26 @@ void gaze_level_row(const gaze_model_t *g, int y, int width, double gaze_x, doub
     /* r_max_px > r_zero_px, so these pixels take gaze_level's second branch. */
     for (int x = 0; x < x_begin; x++)
         levels[x] = g->level_edge;
-    for (int x = x_begin; x < x_end; x++)
+    /* A gaze on a pixel centre or edge (2 gaze_x an integer, e.g. the image
+     * centre): pixel x and its mirror 2 gaze_x - x have dx of exactly
+     * opposite sign (all values are small multiples of 1/2), hence the same
+     * dx * dx and level; the left half copies the right one. */
+    double twice = 2.0 * gaze_x;
+    int mirror = fabs(twice) < 1e9 && twice == floor(twice) ? (int)twice : -1;
+    int copy_begin = split, copy_end = split;   /* [copy_begin, copy_end) mirrored */
+    if (mirror >= 0 && x_begin < split) {
+        /* x < split mirrors to mirror - x >= split; usable when < x_end. */
+        copy_begin = mirror - x_end + 1 > x_begin ? mirror - x_end + 1 : x_begin;
+        if (copy_begin > split)
+            copy_begin = split;
+        copy_end = split;
+    }
+    for (int x = x_begin; x < copy_begin; x++)
         levels[x] = gaze_level(g, level_radius(x, dy2, gaze_x, scale));
+    for (int x = split > x_begin ? split : x_begin; x < x_end; x++)
+        levels[x] = gaze_level(g, level_radius(x, dy2, gaze_x, scale));
+    for (int x = copy_begin; x < copy_end; x++)
+        levels[x] = levels[mirror - x];
     for (int x = x_end; x < width; x++)
         levels[x] = g->level_edge;
 }

@@ -108,15 +108,34 @@ static void job_levels_row(void *ctx, int y, int thread)
     native_renderer_t *r = job->r;
     const render_settings_t *s = job->s;
     float *now = r->level_now + (size_t)y * s->width;
-    float *best = r->level_best + (size_t)y * s->width;
+    /* Row 2 gaze_y - y has dy of exactly opposite sign when 2 gaze_y is an
+     * integer (see gaze_level_row), so the same levels: the lower-numbered
+     * row of each such pair computes both, the other item does nothing. */
+    int twin = -1;
+    double twice = 2.0 * s->gaze_y;
+    if (s->mode == RENDER_MODE_GAZE && fabs(twice) < 1e9 && twice == floor(twice)) {
+        long t = (long)twice - y;
+        if (t >= 0 && t < s->height && t != y) {
+            if (t < y)
+                return;
+            twin = (int)t;
+        }
+    }
     if (s->mode == RENDER_MODE_GAZE)
         gaze_level_row(&r->gaze, y, s->width, s->gaze_x, s->gaze_y, job->gaze_scale, now);
     else
         for (int x = 0; x < s->width; x++)
             now[x] = 0.0f;
-    for (int x = 0; x < s->width; x++)
-        if (now[x] < best[x])
-            best[x] = now[x];
+    for (int k = 0; k < (twin >= 0 ? 2 : 1); k++) {
+        int row = k == 0 ? y : twin;
+        float *dst = r->level_now + (size_t)row * s->width;
+        float *best = r->level_best + (size_t)row * s->width;
+        if (k == 1)
+            memcpy(dst, now, (size_t)s->width * sizeof(float));
+        for (int x = 0; x < s->width; x++)
+            if (dst[x] < best[x])
+                best[x] = dst[x];
+    }
 }
 
 /* Marks the texels needed by band 2*item + parity. */
