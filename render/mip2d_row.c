@@ -151,11 +151,10 @@ void mip2d_render_row_reference(const mip2d_t *m, int y, const float *levels, in
  * stride and vertical weight are known: the same expressions in the same
  * order (the build uses -std=c11, so no contraction into FMAs). */
 static inline void bilerp_in_row(const float *row0, size_t stride3, int l, int x, float v,
-                                 float out[3])
+                                 const float *u_of_phase, float out[3])
 {
     int i = x >> l;
-    float s = (float)(1 << l);
-    float u = (float)(x - (i << l)) / s;
+    float u = u_of_phase[x & ((1 << l) - 1)];   /* (x - (i << l)) / 2^l */
     const float *c00 = row0 + (size_t)i * 3;
     const float *c10 = u > 0.0f ? c00 + 3 : c00;
     const float *c01 = v > 0.0f ? c00 + stride3 : c00;
@@ -174,6 +173,12 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
     const float *row0[MIP2D_MAX_LEVELS];
     size_t stride3[MIP2D_MAX_LEVELS];
     float vw[MIP2D_MAX_LEVELS];
+    /* bilerp's horizontal weight for each pixel phase x mod 2^l, with its
+     * expression; at most 255 divisions a row instead of one a pixel. */
+    float u_table[MIP2D_MAX_LEVELS][1 << (MIP2D_MAX_LEVELS - 1)];
+    for (int l = 0; l < m->levels; l++)
+        for (int f = 0; f < (1 << l); f++)
+            u_table[l][f] = (float)f / (float)(1 << l);
     for (int l = 0; l < m->levels; l++) {
         int j = y >> l;
         float s = (float)(1 << l);
@@ -205,10 +210,11 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
         } else {
             for (int x = x0; x < x1; x++) {
                 float c[3];
-                bilerp_in_row(row0[lo], stride3[lo], lo, x, vw[lo], c);
+                bilerp_in_row(row0[lo], stride3[lo], lo, x, vw[lo], u_table[lo], c);
                 if (blend) {
                     float hi[3];
-                    bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1], hi);
+                    bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1],
+                                  u_table[lo + 1], hi);
                     for (int k = 0; k < 3; k++)
                         c[k] += t * (hi[k] - c[k]);
                 }
