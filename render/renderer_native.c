@@ -107,7 +107,10 @@ static void job_levels_row(void *ctx, int y, int thread)
     frame_job_t *job = ctx;
     native_renderer_t *r = job->r;
     const render_settings_t *s = job->s;
-    float *now = r->level_now + (size_t)y * s->width;
+    /* The first frame of a view has no earlier levels: the finest so far
+     * is this frame's, written straight into level_best. */
+    float *levels = job->r->frame_index == 0 ? r->level_best : r->level_now;
+    float *now = levels + (size_t)y * s->width;
     /* Row 2 gaze_y - y has dy of exactly opposite sign when 2 gaze_y is an
      * integer (see gaze_level_row), so the same levels: the lower-numbered
      * row of each such pair computes both, the other item does nothing. */
@@ -128,13 +131,14 @@ static void job_levels_row(void *ctx, int y, int thread)
             now[x] = 0.0f;
     for (int k = 0; k < (twin >= 0 ? 2 : 1); k++) {
         int row = k == 0 ? y : twin;
-        float *dst = r->level_now + (size_t)row * s->width;
+        float *dst = levels + (size_t)row * s->width;
         float *best = r->level_best + (size_t)row * s->width;
         if (k == 1)
             memcpy(dst, now, (size_t)s->width * sizeof(float));
-        for (int x = 0; x < s->width; x++)
-            if (dst[x] < best[x])
-                best[x] = dst[x];
+        if (dst != best)
+            for (int x = 0; x < s->width; x++)
+                if (dst[x] < best[x])
+                    best[x] = dst[x];
     }
 }
 
@@ -229,9 +233,6 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
          * are never read (each needed texel is cast first), so the image is
          * the same as with zeroed buffers. */
         mip2d_clear(&r->mip2d);
-        size_t n = (size_t)s->width * (size_t)s->height;
-        for (size_t i = 0; i < n; i++)
-            r->level_best[i] = INFINITY;
         r->frame_index = 0;
     } else if (!keep) {
         mip2d_free(&r->mip2d);
@@ -247,8 +248,6 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         r->level_now = malloc(n * sizeof(float));
         if (!r->level_best || !r->level_now)
             return pp5_fail(PP5_E_NOMEM, "render: cannot allocate level maps");
-        for (size_t i = 0; i < n; i++)
-            r->level_best[i] = INFINITY;
         r->frame_index = 0;
     } else {
         r->frame_index++;
