@@ -135,6 +135,16 @@ bool mip2d_mark_row_runs(mip2d_t *m, int y, const float *levels, int width)
     return full;
 }
 
+/* render_to_u8 without branches: clamping to [0, 1] first leaves the
+ * in-range expression v * 255 + 0.5 unchanged, maps v >= 1 to 255.5 -> 255
+ * and v <= 0 or NaN to 0.5 -> 0, exactly the reference's three cases. */
+static inline uint8_t to_u8_clamped(float v)
+{
+    float c = v > 0.0f ? v : 0.0f;
+    c = c < 1.0f ? c : 1.0f;
+    return (uint8_t)(c * 255.0f + 0.5f);
+}
+
 void mip2d_render_row_reference(const mip2d_t *m, int y, const float *levels, int width,
                                 uint8_t *rgb)
 {
@@ -149,21 +159,28 @@ void mip2d_render_row_reference(const mip2d_t *m, int y, const float *levels, in
 
 /* bilerp() of gaze2d.c for pixel x of a row whose texel row pointer, row
  * stride and vertical weight are known: the same expressions in the same
- * order (the build uses -std=c11, so no contraction into FMAs). */
+ * order (the build uses -std=c11, so no contraction into FMAs).  bilerp's
+ * corner choice reduces to offsets: with u > 0 the right-hand corners are
+ * the next texels (c11 is c01 + 1 whether or not v > 0), with u = 0 they
+ * are the left-hand ones themselves. */
 static inline void bilerp_in_row(const float *row0, size_t stride3, int l, int x, float v,
                                  const float *u_of_phase, float out[3])
 {
-    int i = x >> l;
-    float u = u_of_phase[x & ((1 << l) - 1)];   /* (x - (i << l)) / 2^l */
-    const float *c00 = row0 + (size_t)i * 3;
-    const float *c10 = u > 0.0f ? c00 + 3 : c00;
+    int phase = x & ((1 << l) - 1);
+    float u = u_of_phase[phase];                /* (x - (i << l)) / 2^l */
+    const float *c00 = row0 + (size_t)(x >> l) * 3;
     const float *c01 = v > 0.0f ? c00 + stride3 : c00;
-    const float *c11 = (u > 0.0f && v > 0.0f) ? c00 + stride3 + 3 : (u > 0.0f ? c10 : c01);
-    for (int k = 0; k < 3; k++) {
-        float a = c00[k] + u * (c10[k] - c00[k]);
-        float b = c01[k] + u * (c11[k] - c01[k]);
-        out[k] = a + v * (b - a);
-    }
+    size_t right = phase != 0 ? 3 : 0;
+    const float *c10 = c00 + right, *c11 = c01 + right;
+    float a0 = c00[0] + u * (c10[0] - c00[0]);
+    float a1 = c00[1] + u * (c10[1] - c00[1]);
+    float a2 = c00[2] + u * (c10[2] - c00[2]);
+    float b0 = c01[0] + u * (c11[0] - c01[0]);
+    float b1 = c01[1] + u * (c11[1] - c01[1]);
+    float b2 = c01[2] + u * (c11[2] - c01[2]);
+    out[0] = a0 + v * (b0 - a0);
+    out[1] = a1 + v * (b1 - a1);
+    out[2] = a2 + v * (b2 - a2);
 }
 
 void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, uint8_t *rgb)
@@ -203,9 +220,9 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
              * becomes +0, the same byte). */
             const float *src = row0[0];
             for (int x = x0; x < x1; x++) {
-                rgb[3 * x + 0] = render_to_u8(src[3 * x + 0]);
-                rgb[3 * x + 1] = render_to_u8(src[3 * x + 1]);
-                rgb[3 * x + 2] = render_to_u8(src[3 * x + 2]);
+                rgb[3 * x + 0] = to_u8_clamped(src[3 * x + 0]);
+                rgb[3 * x + 1] = to_u8_clamped(src[3 * x + 1]);
+                rgb[3 * x + 2] = to_u8_clamped(src[3 * x + 2]);
             }
         } else {
             for (int x = x0; x < x1; x++) {
@@ -215,12 +232,13 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
                     float hi[3];
                     bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1],
                                   u_table[lo + 1], hi);
-                    for (int k = 0; k < 3; k++)
-                        c[k] += t * (hi[k] - c[k]);
+                    c[0] += t * (hi[0] - c[0]);
+                    c[1] += t * (hi[1] - c[1]);
+                    c[2] += t * (hi[2] - c[2]);
                 }
-                rgb[3 * x + 0] = render_to_u8(c[0]);
-                rgb[3 * x + 1] = render_to_u8(c[1]);
-                rgb[3 * x + 2] = render_to_u8(c[2]);
+                rgb[3 * x + 0] = to_u8_clamped(c[0]);
+                rgb[3 * x + 1] = to_u8_clamped(c[1]);
+                rgb[3 * x + 2] = to_u8_clamped(c[2]);
             }
         }
         x0 = x1;
