@@ -111,24 +111,35 @@ static void mark_span(mip2d_t *m, int l, int x0, int x1, int y)
         memset(m->need[l] + (size_t)(j + 1) * w + i0, 1, n);
 }
 
+/* What mip2d_mark_pixel does with a level depends only on its floor level
+ * (clamped to the top one) and whether the next level is blended in: pixels
+ * with the same pair mark the same texel rows, so a run of them is one span
+ * per level, whatever the levels' exact values (the Gaussian falloff has a
+ * different level at nearly every pixel but few distinct pairs). */
+static inline int mark_key(const mip2d_t *m, float level)
+{
+    int l = (int)level;
+    if (l >= m->levels)
+        l = m->levels - 1;
+    bool blend = level > (float)l && l + 1 < m->levels;
+    return 2 * l + blend;
+}
+
 bool mip2d_mark_row_runs(mip2d_t *m, int y, const float *levels, int width)
 {
     bool full = true;
+    for (int x = 0; x < width && full; x++)
+        full = levels[x] == 0.0f;
     int x0 = 0;
     while (x0 < width) {
-        float level = levels[x0];
+        int key = mark_key(m, levels[x0]);
         int x1 = x0;
-        while (x1 + 1 < width && levels[x1 + 1] == level)
+        while (x1 + 1 < width && (levels[x1 + 1] == levels[x1] ||
+                                  mark_key(m, levels[x1 + 1]) == key))
             x1++;
-        if (level != 0.0f)
-            full = false;
-        /* The branch structure of mip2d_mark_pixel; level 0 lands on its own
-         * texel, which mark_span at l = 0 reproduces. */
-        int l = (int)level;
-        if (l >= m->levels)
-            l = m->levels - 1;
+        int l = key >> 1;
         mark_span(m, l, x0, x1, y);
-        if (level > (float)l && l + 1 < m->levels)
+        if (key & 1)
             mark_span(m, l + 1, x0, x1, y);
         x0 = x1 + 1;
     }
