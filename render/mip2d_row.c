@@ -235,6 +235,44 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
                 rgb[3 * x + 1] = to_u8_clamped(src[3 * x + 1]);
                 rgb[3 * x + 2] = to_u8_clamped(src[3 * x + 2]);
             }
+        } else if (!blend) {
+            /* One level, block by block: the 2^lo pixels of a texel column
+             * share their corners, so they are loaded once; per pixel the
+             * reference's expressions with its u (phase 0 keeps u = 0 and
+             * right-hand corners equal to the left-hand ones). */
+            const float *r0 = row0[lo];
+            const float *ut = u_table[lo];
+            float v = vw[lo];
+            int mask = (1 << lo) - 1;
+            size_t down = v > 0.0f ? stride3[lo] : 0;
+            for (int x = x0; x < x1;) {
+                int i = x >> lo;
+                int block_end = (i + 1) << lo;
+                if (block_end > x1)
+                    block_end = x1;
+                const float *c00 = r0 + (size_t)i * 3, *c01 = c00 + down;
+                float a0 = c00[0], a1 = c00[1], a2 = c00[2];
+                float b0 = c01[0], b1 = c01[1], b2 = c01[2];
+                /* Right-hand corners only exist (and are read) for phase > 0. */
+                bool has_right = (block_end - 1) & mask;
+                float ra0 = has_right ? c00[3] : a0, ra1 = has_right ? c00[4] : a1;
+                float ra2 = has_right ? c00[5] : a2, rb0 = has_right ? c01[3] : b0;
+                float rb1 = has_right ? c01[4] : b1, rb2 = has_right ? c01[5] : b2;
+                for (; x < block_end; x++) {
+                    int phase = x & mask;
+                    float u = ut[phase];
+                    float e0 = phase ? ra0 : a0, e1 = phase ? ra1 : a1;
+                    float e2 = phase ? ra2 : a2, f0 = phase ? rb0 : b0;
+                    float f1 = phase ? rb1 : b1, f2 = phase ? rb2 : b2;
+                    float p0 = a0 + u * (e0 - a0), p1 = a1 + u * (e1 - a1);
+                    float p2 = a2 + u * (e2 - a2);
+                    float q0 = b0 + u * (f0 - b0), q1 = b1 + u * (f1 - b1);
+                    float q2 = b2 + u * (f2 - b2);
+                    rgb[3 * x + 0] = to_u8_clamped(p0 + v * (q0 - p0));
+                    rgb[3 * x + 1] = to_u8_clamped(p1 + v * (q1 - p1));
+                    rgb[3 * x + 2] = to_u8_clamped(p2 + v * (q2 - p2));
+                }
+            }
         } else {
             for (int x = x0; x < x1; x++) {
                 float c[3];
