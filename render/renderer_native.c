@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "mip2d_row.h"
 #include "parallel.h"
 
 /* Host wall time for the timing report only; never feeds into the image. */
@@ -106,17 +107,38 @@ static void job_levels_row(void *ctx, int y, int thread)
     frame_job_t *job = ctx;
     native_renderer_t *r = job->r;
     const render_settings_t *s = job->s;
-    float *now = r->level_now + (size_t)y * s->width;
-    float *best = r->level_best + (size_t)y * s->width;
-    for (int x = 0; x < s->width; x++) {
-        float level = 0.0f;
-        if (s->mode == RENDER_MODE_GAZE) {
-            double dx = (double)x - s->gaze_x, dy = (double)y - s->gaze_y;
-            level = gaze_level(&r->gaze, sqrt(dx * dx + dy * dy) / job->gaze_scale);
+    /* The first frame of a view has no earlier levels: the finest so far
+     * is this frame's, written straight into level_best. */
+    float *levels = job->r->frame_index == 0 ? r->level_best : r->level_now;
+    float *now = levels + (size_t)y * s->width;
+    /* Row 2 gaze_y - y has dy of exactly opposite sign when 2 gaze_y is an
+     * integer (see gaze_level_row), so the same levels: the lower-numbered
+     * row of each such pair computes both, the other item does nothing. */
+    int twin = -1;
+    double twice = 2.0 * s->gaze_y;
+    if (s->mode == RENDER_MODE_GAZE && fabs(twice) < 1e9 && twice == floor(twice)) {
+        long t = (long)twice - y;
+        if (t >= 0 && t < s->height && t != y) {
+            if (t < y)
+                return;
+            twin = (int)t;
         }
-        now[x] = level;
-        if (level < best[x])
-            best[x] = level;
+    }
+    if (s->mode == RENDER_MODE_GAZE)
+        gaze_level_row(&r->gaze, y, s->width, s->gaze_x, s->gaze_y, job->gaze_scale, now);
+    else
+        for (int x = 0; x < s->width; x++)
+            now[x] = 0.0f;
+    for (int k = 0; k < (twin >= 0 ? 2 : 1); k++) {
+        int row = k == 0 ? y : twin;
+        float *dst = levels + (size_t)row * s->width;
+        float *best = r->level_best + (size_t)row * s->width;
+        if (k == 1)
+            memcpy(dst, now, (size_t)s->width * sizeof(float));
+        if (dst != best)
+            for (int x = 0; x < s->width; x++)
+                if (dst[x] < best[x])
+                    best[x] = dst[x];
     }
 }
 
@@ -132,7 +154,7 @@ static void job_mark_band(void *ctx, int item, int thread)
         y1 = job->s->height;
     bool full = true;
     for (int y = y0; y < y1; y++)
-        if (!mip2d_mark_row(&r->mip2d, y, r->level_best + (size_t)y * job->s->width,
+        if (!mip2d_mark_row_runs(&r->mip2d, y, r->level_best + (size_t)y * job->s->width,
                             job->s->width))
             full = false;
     job->band_full[band] = full;
@@ -178,13 +200,7 @@ static void job_reconstruct_row(void *ctx, int y, int thread)
     const native_renderer_t *r = job->r;
     int w = job->s->width;
     uint8_t *row = job->out->pixels + (size_t)y * w * 3;
-    for (int x = 0; x < w; x++) {
-        float rgb[3];
-        mip2d_pixel(&r->mip2d, x, y, r->level_best[(size_t)y * w + x], rgb);
-        row[3 * x + 0] = render_to_u8(rgb[0]);
-        row[3 * x + 1] = render_to_u8(rgb[1]);
-        row[3 * x + 2] = render_to_u8(rgb[2]);
-    }
+    mip2d_render_row(&r->mip2d, y, r->level_best + (size_t)y * w, w, row);
 }
 
 pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
@@ -208,14 +224,23 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
     if (st != PP5_OK)
         return st;
     bool keep = s->progressive && r->have_view && same_view(s, &r->last);
-    if (!keep) {
+    int levels_wanted = s->mode == RENDER_MODE_GAZE ? gm.max_level + 1 : 1;
+    if (!keep && r->level_best && r->level_now && r->mip2d.width == s->width &&
+        r->mip2d.height == s->height && r->mip2d.levels == levels_wanted) {
+        /* A new view of the same size: reuse the buffers (fresh allocations
+         * cost a page fault per 4 KiB on first touch, several ms a frame at
+         * 1024x1024) and forget every cast ray.  Colours of uncast texels
+         * are never read (each needed texel is cast first), so the image is
+         * the same as with zeroed buffers. */
+        mip2d_clear(&r->mip2d);
+        r->frame_index = 0;
+    } else if (!keep) {
         mip2d_free(&r->mip2d);
         free(r->level_best);
         free(r->level_now);
         r->level_best = r->level_now = NULL;
         r->have_view = false;
-        int levels = s->mode == RENDER_MODE_GAZE ? gm.max_level + 1 : 1;
-        st = mip2d_init(&r->mip2d, s->width, s->height, levels);
+        st = mip2d_init(&r->mip2d, s->width, s->height, levels_wanted);
         if (st != PP5_OK)
             return st;
         size_t n = (size_t)s->width * (size_t)s->height;
@@ -223,8 +248,6 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         r->level_now = malloc(n * sizeof(float));
         if (!r->level_best || !r->level_now)
             return pp5_fail(PP5_E_NOMEM, "render: cannot allocate level maps");
-        for (size_t i = 0; i < n; i++)
-            r->level_best[i] = INFINITY;
         r->frame_index = 0;
     } else {
         r->frame_index++;
