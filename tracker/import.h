@@ -56,6 +56,9 @@ pp5_status_t import_to_display(trace_t *t, const gaze_geometry_t *to);
 /* Helpers shared by the importers (import_common.c). */
 /* Applies the options' source geometry over what the file said. */
 void import_apply_geometry(const import_options_t *o, gaze_geometry_t *g);
+/* The end of every importer (validate, then commit): on success marks `t`
+ * complete and moves it into *out; on failure frees it.  Returns `st`. */
+pp5_status_t import_commit(trace_t *t, pp5_status_t st, trace_t *out);
 /* Next line of text at *pos (NUL-terminated copy in buf, CR stripped); false at the end. */
 bool import_next_line(const char *text, size_t len, size_t *pos, char *buf, size_t size,
                       bool *too_long);

@@ -192,3 +192,14 @@ pp5_status_t import_to_display(trace_t *t, const gaze_geometry_t *to)
     t->header.geometry = *to;
     return PP5_OK;
 }
+
+pp5_status_t import_commit(trace_t *t, pp5_status_t st, trace_t *out)
+{
+    if (st != PP5_OK) {
+        trace_free(t);
+        return st;
+    }
+    t->complete = true;
+    *out = *t;
+    return PP5_OK;
+}

@@ -335,11 +335,5 @@ pp5_status_t import_eyelink(const char *text, size_t len, const char *name,
     }
     free(ev.v);
     free(tracker_ms);
-    if (st != PP5_OK) {
-        trace_free(&t);
-        return st;
-    }
-    t.complete = true;
-    *out = t;
-    return PP5_OK;
+    return import_commit(&t, st, out);
 }

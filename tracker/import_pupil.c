@@ -164,11 +164,5 @@ done:
     free(header);
     free(names);
     free(f);
-    if (st != PP5_OK) {
-        trace_free(&t);
-        return st;
-    }
-    t.complete = true;
-    *out = t;
-    return PP5_OK;
+    return import_commit(&t, st, out);
 }

@@ -195,11 +195,5 @@ pp5_status_t import_shared(const char *text, size_t len, const char *name,
     }
     if (st == PP5_OK && t.count == 0)
         st = pp5_fail(PP5_E_FORMAT, "%s: no samples", name);
-    if (st != PP5_OK) {
-        trace_free(&t);
-        return st;
-    }
-    t.complete = true;
-    *out = t;
-    return PP5_OK;
+    return import_commit(&t, st, out);
 }

@@ -291,11 +291,5 @@ done:
     free(names);
     free(f);
     free(raw);
-    if (st != PP5_OK) {
-        trace_free(&t);
-        return st;
-    }
-    t.complete = true;
-    *out = t;
-    return PP5_OK;
+    return import_commit(&t, st, out);
 }
