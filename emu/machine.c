@@ -173,6 +173,7 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
     m->info.region_width = PP_ARRAY_DIM;
     m->info.region_height = PP_ARRAY_DIM;
     m->info.pp_mem_bits = PP_MEM_BITS;
+    m->info.pp_bs_blocks = PP_BS_BLOCKS;
     m->info.local_mem_bytes = p->gp_local_mem_bytes;
     sched_init(&m->sched);
     m->sched.describe_busy = machine_describe_busy;

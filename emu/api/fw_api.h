@@ -57,6 +57,7 @@ typedef struct {
     unsigned screen_width, screen_height;   /* frame buffer pixels */
     unsigned region_width, region_height;   /* one renderer's PP array (128 x 128) */
     unsigned pp_mem_bits;                   /* bits of pixel memory per PP (208) */
+    unsigned pp_bs_blocks;                  /* 32-bit backing-store blocks per PP (128) */
     uint64_t local_mem_bytes;               /* this GP's memory capacity */
 } fw_machine_info_t;
 

@@ -14,7 +14,6 @@
 #define VR_MAX_GPS 64
 #define VR_MAX_2D_LEVELS 8
 #define VR_BRICK_VOXELS 16384u         /* one backing-store block of every PP of a renderer */
-#define VR_BS_BLOCKS 128u              /* 4096 bits / 32 (facts §3.1 [C]) */
 #define VR_LUT_LEVELS 8
 #define VR_LUT_SIZE 1024
 

@@ -794,12 +794,13 @@ static fw_status_t vr_start(gp_t *gp)
     s->probe.n_bricks_total = (uint64_t)id;
     unsigned slots = (unsigned)((id + s->n_r - 1) / s->n_r);
     s->probe.max_slots_used = slots;
-    if (slots * (unsigned)s->blocks_per_slot > VR_BS_BLOCKS)
+    unsigned bs_blocks = fw_machine_info(gp)->pp_bs_blocks;
+    if (slots * (unsigned)s->blocks_per_slot > bs_blocks)
         return fw_fail(gp, "vr: the 3D mip map needs %u backing-store blocks per PP "
                            "(%d bricks of %u voxels over %d renderers, %d blocks each); "
                            "a PP has %u (facts §3.1)",
                        slots * (unsigned)s->blocks_per_slot, id, VR_BRICK_VOXELS, s->n_r,
-                       s->blocks_per_slot, VR_BS_BLOCKS);
+                       s->blocks_per_slot, bs_blocks);
     /* Opacity-correction table (raycast_ctx_init) and byte->float table. */
     fw_ops_t ops = {0};
     for (int l = 0; l < VR_LUT_LEVELS; l++) {
@@ -1057,7 +1058,7 @@ static fw_status_t send_exec(gp_t *gp, vr_state_t *s)
     ops.fdiv += 3;
     pp_stream_t st;
     pp_stream_init(&st);
-    uint32_t *slots = fw_alloc(gp, VR_BS_BLOCKS * sizeof(uint32_t));
+    uint32_t *slots = fw_alloc(gp, fw_machine_info(gp)->pp_bs_blocks * sizeof(uint32_t));
     if (!slots)
         return FW_ERROR;
     fw_status_t rc = FW_OK;
