@@ -5,6 +5,7 @@
 #include <string.h>
 #include "stats.h"
 #include "util/json.h"
+#include "util/version.h"
 
 #define FNV_OFFSET 1469598103934665603ull
 #define FNV_PRIME 1099511628211ull
@@ -63,7 +64,7 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
     json_writer_t j;
     json_init(&j, f, true);
     json_begin_object(&j);
-    json_kv_string(&j, "pp5_version", PP5_VERSION);
+    json_kv_string(&j, "pp5_version", pp5_version);
     json_kv_string(&j, "workload", meta->workload ? meta->workload : "");
     json_key(&j, "command_line");
     json_begin_array(&j);

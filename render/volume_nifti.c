@@ -8,6 +8,7 @@
  * that the file ends where the data ends (niftilib itself ignores extra
  * bytes; a .nii.gz is only checked for truncation). */
 #include "volume.h"
+#include "pp5_features.h"
 #include "volume_io.h"
 
 #include <errno.h>
@@ -18,7 +19,7 @@
 #include <sys/stat.h>
 #include <zlib.h>
 
-#ifdef PP5_HAVE_NIFTI
+#if PP5_HAVE_NIFTI
 #include <nifti1_io.h>
 
 static bool nifti_to_voxel_type(int dt, voxel_type_t *out)

@@ -8,6 +8,7 @@
  * (a leading axis of size 1 is accepted and dropped); NaN/inf in float data;
  * and, for an attached raw-encoded file, bytes left over after the data. */
 #include "volume.h"
+#include "pp5_features.h"
 #include "volume_io.h"
 
 #include <errno.h>
@@ -17,7 +18,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#ifdef PP5_HAVE_TEEM
+#if PP5_HAVE_TEEM
 #include <nrrd.h>
 
 static pp5_status_t teem_failure(pp5_status_t st, const char *path, const char *what)

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "cliopt.h"
+#include "pp5_features.h"
 #include "registry.h"
 #include "status.h"
 #include "tracker/hid_eye.h"
@@ -72,12 +73,12 @@ static void track_usage(FILE *f)
 "list` shows such devices as \"firmware not loaded\".\n"
 "\n"
 "pp5 built %s hidapi and %s libusb.\n",
-#ifdef PP5_HAVE_HIDAPI
+#if PP5_HAVE_HIDAPI
             "with",
 #else
             "WITHOUT",
 #endif
-#ifdef PP5_HAVE_LIBUSB
+#if PP5_HAVE_LIBUSB
             "with"
 #else
             "WITHOUT"

@@ -1,6 +1,7 @@
 /* hid_eye.c: HID usage-page-0x12 eye trackers: descriptor-driven report
  * parsing (pure) and the hidapi/hidraw device and gaze_source_t; see hid_eye.h. */
 #include "hid_eye.h"
+#include "pp5_features.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,7 +10,7 @@
 #include <string.h>
 #include <time.h>
 
-#ifdef PP5_HAVE_HIDAPI
+#if PP5_HAVE_HIDAPI
 #include <hidapi.h>
 #endif
 
@@ -216,7 +217,7 @@ double hid_eye_um_to_px(double um, double extent_um, int extent_px)
 }
 
 /* ------------------------------------------------------------------ */
-#ifdef PP5_HAVE_HIDAPI
+#if PP5_HAVE_HIDAPI
 
 struct hid_eye {
     hid_device *dev;
@@ -513,7 +514,7 @@ static pp5_status_t src_next(gaze_source_t *src, gaze_sample_t *out, bool *got)
                 s->have_t0 = true;
             }
             if (e.timestamp_us < s->t0_us) {
-#ifdef PP5_HAVE_HIDAPI
+#if PP5_HAVE_HIDAPI
                 s->dev->stats.clock_backwards++;
 #endif
                 continue;
@@ -532,7 +533,7 @@ static pp5_status_t src_next(gaze_source_t *src, gaze_sample_t *out, bool *got)
                    (now.tv_nsec - s->host_t0.tv_nsec);
         }
         if (t_ns < s->last_t_ns) {
-#ifdef PP5_HAVE_HIDAPI
+#if PP5_HAVE_HIDAPI
             s->dev->stats.clock_backwards++;
 #endif
             continue;

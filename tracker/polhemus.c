@@ -1,6 +1,7 @@
 /* polhemus.c: Polhemus Patriot/Liberty binary records and the libusb bulk
  * transport; see polhemus.h. */
 #include "polhemus.h"
+#include "pp5_features.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -8,7 +9,7 @@
 #include <string.h>
 #include <time.h>
 
-#ifdef PP5_HAVE_LIBUSB
+#if PP5_HAVE_LIBUSB
 #include <libusb.h>
 #endif
 
@@ -104,7 +105,7 @@ pp5_status_t polhemus_parse_records(const uint8_t *buf, size_t len, const char *
 }
 
 /* ------------------------------------------------------------------ */
-#ifdef PP5_HAVE_LIBUSB
+#if PP5_HAVE_LIBUSB
 
 struct polhemus {
     libusb_context *ctx;

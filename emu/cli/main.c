@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "registry.h"
+#include "version.h"
 
 static void print_usage(FILE *out)
 {
@@ -12,8 +13,9 @@ static void print_usage(FILE *out)
     fprintf(out,
             "pp5 %s: a Pixel-Planes 5 emulator and its gaze-directed volume renderer\n\n"
             "usage: pp5 COMMAND [options]      (pp5 COMMAND --help for a command's options)\n\n"
+            "built with: %s\n\n"
             "commands:\n",
-            PP5_VERSION);
+            pp5_version, pp5_features);
     for (int i = 0; i < n; i++)
         fprintf(out, "  %-16s %s\n", cmds[i].name, cmds[i].summary);
     fprintf(out, "  %-16s %s\n", "help", "this list, or `pp5 help COMMAND` for one command");
@@ -40,7 +42,7 @@ int main(int argc, char **argv)
         return 0;
     }
     if (strcmp(name, "--version") == 0 || strcmp(name, "version") == 0) {
-        printf("pp5 %s\n", PP5_VERSION);
+        printf("pp5 %s\nbuilt with: %s\n", pp5_version, pp5_features);
         return 0;
     }
     const pp5_command_t *c = pp5_find_command(name);
