@@ -1,32 +1,17 @@
-/* cmd_reproduce.c: `pp5 reproduce SCENARIO`, re-running a published
- * experiment and printing the paper's figures beside ours.  Scenarios are
- * rows of one table: a new one (e.g. the firmware's "projections") is added
- * by writing its function and adding a row. */
-#include <getopt.h>
+/* reproduce_table1.c: `pp5 reproduce table1`: Table I of Levoy & Whitaker 1990
+ * (rays, 3D samples and time, gaze-directed against full resolution) on the
+ * native renderer, beside the paper's figures. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "cliopt.h"
 #include "registry.h"
-#include "renderer_native.h"
-#include "scene.h"
+#include "render/renderer_native.h"
+#include "render/scene.h"
 
-typedef struct {
-    int threads;
-    int repeats;              /* timing: median of this many frames */
-    const char *out_dir;      /* PNGs of every image, or NULL */
-} reproduce_opts_t;
-
-typedef int (*reproduce_fn)(const reproduce_opts_t *o);
-
-typedef struct {
-    const char *name;
-    const char *summary;
-    reproduce_fn fn;
-} reproduce_scenario_t;
+typedef pp5_reproduce_opts_t reproduce_opts_t;
 
 /* ---- Table I of Levoy & Whitaker 1990 (gaze paper §6) ---- */
 
@@ -274,75 +259,5 @@ static int reproduce_table1(const reproduce_opts_t *o)
     return rc;
 }
 
-/* --- firmware hook: the projections scenario (firmware/host/fw_projections.c) --- */
-#include "firmware/host/fw_projections.h"
-static int reproduce_projections(const reproduce_opts_t *o) { return fw_reproduce_projections(o->threads); }
-/* --- end firmware hook --- */
-
-/* Add scenarios here: one row each. */
-static const reproduce_scenario_t scenarios[] = {
-    {"projections", "gaze paper's Pixel-Planes 5 predictions (§6-7) vs the emulated machine",
-     reproduce_projections},
-    {"table1", "Levoy & Whitaker 1990 Table I: rays, 3D samples, time, gaze vs full",
-     reproduce_table1},
-};
-
-static void reproduce_usage(void)
-{
-    printf("usage: pp5 reproduce SCENARIO [--threads N] [--repeats N] [--out-dir DIR]\n\n"
-           "Re-runs a published experiment and prints the paper's figures beside ours,\n"
-           "with the reasons where they differ.  Scenarios:\n");
-    for (size_t i = 0; i < sizeof scenarios / sizeof scenarios[0]; i++)
-        printf("  %-12s %s\n", scenarios[i].name, scenarios[i].summary);
-    printf("Options:\n"
-           "  --threads N   host threads (default 1, like the paper's single workstation)\n"
-           "  --repeats N   frames per timing, median reported (default 3)\n"
-           "  --out-dir D   also write every rendered image as PNG into D\n"
-           "Data: ../shared/data or $PP5_SHARED_DATA; missing data falls back to the\n"
-           "Shepp-Logan phantom and the output says so.\n");
-}
-
-static int reproduce_main(int argc, char **argv)
-{
-    reproduce_opts_t o = {1, 3, NULL};
-    static const struct option longopts[] = {
-        {"threads", required_argument, NULL, 't'},
-        {"repeats", required_argument, NULL, 'r'},
-        {"out-dir", required_argument, NULL, 'o'},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
-    long l;
-    int c;
-    pp5_status_t st = PP5_OK;
-    optind = 1;
-    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
-        switch (c) {
-        case 't': st = cliopt_long("--threads", optarg, 0, 64, &l); o.threads = (int)l; break;
-        case 'r': st = cliopt_long("--repeats", optarg, 1, 16, &l); o.repeats = (int)l; break;
-        case 'o': o.out_dir = optarg; break;
-        case 'h': reproduce_usage(); return 0;
-        default: return 2;
-        }
-    }
-    if (st != PP5_OK)
-        return cliopt_report("reproduce", st);
-    if (optind != argc - 1) {
-        reproduce_usage();
-        return 2;
-    }
-    if (o.out_dir && mkdir(o.out_dir, 0777) != 0) {
-        struct stat sb;
-        if (stat(o.out_dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-            return cliopt_report("reproduce", pp5_fail(PP5_E_IO, "--out-dir %s: cannot create",
-                                                       o.out_dir));
-    }
-    for (size_t i = 0; i < sizeof scenarios / sizeof scenarios[0]; i++)
-        if (strcmp(scenarios[i].name, argv[optind]) == 0)
-            return scenarios[i].fn(&o);
-    return cliopt_report("reproduce", pp5_fail(PP5_E_CONFIG, "unknown scenario '%s' (try "
-                                               "--help)", argv[optind]));
-}
-
-PP5_COMMAND(reproduce, "re-run a paper's experiment beside its published figures (table1)",
-            reproduce_main)
+PP5_REPRODUCE(table1, "Levoy & Whitaker 1990 Table I: rays, 3D samples, time, gaze vs full",
+              reproduce_table1)

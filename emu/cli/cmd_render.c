@@ -8,9 +8,9 @@
 
 #include "cliopt.h"
 #include "registry.h"
-#include "render_cli.h"
-#include "renderer_native.h"
-#include "scene.h"
+#include "render/render_cli.h"
+#include "render/renderer_native.h"
+#include "render/scene.h"
 /* --- firmware hook (firmware/host/fw_render.h): `pp5 render --machine` --- */
 #include "firmware/host/fw_render.h"
 /* --- end firmware hook --- */

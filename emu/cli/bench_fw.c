@@ -3,7 +3,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "fw_session.h"
+#include "firmware/host/fw_session.h"
 #include "registry.h"
 #include "render/scene.h"
 

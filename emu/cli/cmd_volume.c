@@ -7,7 +7,7 @@
 
 #include "cliopt.h"
 #include "registry.h"
-#include "volume.h"
+#include "render/volume.h"
 
 static void usage(void)
 {

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "cliopt.h"
-#include "fw_session.h"
+#include "firmware/host/fw_session.h"
 #include "plot.h"
 #include "registry.h"
 #include "render/scene.h"

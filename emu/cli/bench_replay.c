@@ -10,9 +10,9 @@
 #include <unistd.h>
 
 #include "registry.h"
-#include "replay.h"
-#include "synth.h"
-#include "trace_file.h"
+#include "tracker/replay.h"
+#include "tracker/synth.h"
+#include "tracker/trace_file.h"
 
 static double host_seconds(void)
 {

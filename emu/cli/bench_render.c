@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "registry.h"
-#include "renderer_native.h"
-#include "scene.h"
+#include "render/renderer_native.h"
+#include "render/scene.h"
 
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
                      double ours_gaze_ms);

@@ -7,12 +7,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "angles.h"
+#include "tracker/angles.h"
 #include "cliopt.h"
 #include "json.h"
 #include "registry.h"
-#include "replay.h"
-#include "trace_file.h"
+#include "tracker/replay.h"
+#include "tracker/trace_file.h"
 
 #if defined(__has_include)
 #if __has_include("plot.h")

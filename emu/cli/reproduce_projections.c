@@ -1,11 +1,10 @@
-/* fw_projections.c: `pp5 reproduce projections`: the gaze paper's Pixel-Planes 5 predictions (§6, §7) and the 1991 measurements beside the emulator's estimates under both ring presets. */
-#include "fw_projections.h"
-
+/* reproduce_projections.c: `pp5 reproduce projections`: the gaze paper's Pixel-Planes 5 predictions (§6, §7) and the 1991 measurements beside the emulator's estimates under both ring presets. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fw_session.h"
+#include "firmware/host/fw_session.h"
+#include "registry.h"
 #include "render/scene.h"
 
 /* Paper figures (seed 004 §6, §7; facts §7.2, S8). */
@@ -145,9 +144,9 @@ static int projections_dataset(const char *label, volume_t *v, const classify_tf
     return 0;
 }
 
-int fw_reproduce_projections(int threads)
+static int reproduce_projections(const pp5_reproduce_opts_t *o)
 {
-    (void)threads;
+    (void)o;
     printf("Projections of Levoy & Whitaker 1990 for Pixel-Planes 5 (seed 004 §4 last paragraph,\n"
            "§6, §7) against the emulator (firmware/: the paper's division of work; GP and PP\n"
            "cycles from counted operations, ring from the parameter table; nothing is tuned).\n"
@@ -210,3 +209,6 @@ int fw_reproduce_projections(int threads)
            "the phase named above is the cause.\n");
     return rc;
 }
+
+PP5_REPRODUCE(projections, "gaze paper's Pixel-Planes 5 predictions (§6-7) vs the emulated machine",
+              reproduce_projections)

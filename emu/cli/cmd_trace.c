@@ -6,12 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "angles.h"
+#include "tracker/angles.h"
 #include "cliopt.h"
-#include "import.h"
+#include "tracker/import.h"
 #include "registry.h"
-#include "synth.h"
-#include "trace_file.h"
+#include "tracker/synth.h"
+#include "tracker/trace_file.h"
 
 /* "WxH" of two positive finite numbers (millimetres may have decimals). */
 static pp5_status_t parse_wh(const char *opt, const char *text, double *w, double *h)
