@@ -1,0 +1,145 @@
+/* vr_gp_internal.h: the state of the volume-rendering GP program and the functions its phases share (setup, plan, fetch, cast, resample).
+ *
+ * Private to firmware/gp: the host sees only common/vr_gp.h.  Everything here
+ * lives in the GP's local memory (fw_alloc) and is reached only through
+ * fw_api.h. */
+#ifndef PP5_VR_GP_INTERNAL_H
+#define PP5_VR_GP_INTERNAL_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "common/vr_config.h"
+#include "common/vr_cost.h"
+#include "common/vr_gp.h"
+#include "common/vr_kernels.h"
+#include "common/vr_shade_fixed.h"
+#include "common/vr_shade_pp.h"
+#include "fw_api.h"
+#include "pp_encode.h"
+#include "ring_msg.h"
+
+
+/* A bit volume with rows padded to 64-bit words. */
+typedef struct {
+    int nx, ny, nz, wpr;
+    uint64_t *w;
+} bits_t;
+
+typedef struct {
+    int heights;
+    bits_t occ[VR_MAX_LEVELS];
+} octgrid_t;
+
+typedef struct {
+    vr_config_t cfg;
+    vr_level_geom_t geom[VR_MAX_LEVELS];
+    int g, n_gp, n_r, stride, blocks_per_slot;
+    const float *slab;                    /* host data: slices [data_z0, data_z1) */
+    /* setup */
+    float *strip[VR_MAX_LEVELS];          /* current strip of each local level */
+    uint32_t *qa[VR_MAX_LEVELS], *qn[VR_MAX_LEVELS]; /* quantised slab of levels 1..K */
+    float *upper[VR_MAX_LEVELS];          /* GP 0: levels K..top, whole */
+    bits_t occ[VR_MAX_LEVELS];            /* GP 0: global occupancy */
+    int levk_pending, occ_pending;
+    /* shared after setup */
+    uint8_t *brick_nonempty[VR_MAX_LEVELS];
+    int brick_base[VR_MAX_LEVELS];        /* global brick id of a level's first brick */
+    int n_bricks;
+    octgrid_t grid[VR_MAX_LEVELS], exact[VR_MAX_LEVELS];
+    bool have_octree;
+    float alpha_lut[VR_LUT_LEVELS][VR_LUT_SIZE + 1];
+    float u8_to_f[256];
+    /* frame */
+    vr_frame_t fr;
+    int frame;
+    bool exec_sent;
+    uint32_t *pending_req;                /* requests that arrived before our EXEC */
+    size_t pending_req_n, pending_req_cap;
+    uint32_t **cache;                     /* per global brick: shaded words or NULL */
+    uint32_t **cache_n;                   /* GP split: N blocks waiting for shading */
+    int bricks_pending;
+    bool cast_done, boundary_ok;
+    int levels2d, maxm;
+    int y0, y1;                           /* own pixel rows */
+    int ly0, ly1;                         /* pixel rows with a computed level */
+    float *level;                         /* per pixel in [ly0, ly1) */
+    int jlo[VR_MAX_2D_LEVELS], jhi[VR_MAX_2D_LEVELS]; /* own texel rows [jlo, jhi] */
+    int tw[VR_MAX_2D_LEVELS], th[VR_MAX_2D_LEVELS];
+    float *texel[VR_MAX_2D_LEVELS];       /* rows jlo..jhi+1 (+1: the next GP's first row) */
+    uint8_t *need[VR_MAX_2D_LEVELS];
+    uint8_t *castf[VR_MAX_2D_LEVELS];     /* the paper's flag F: texel's ray cast (kept when progressive) */
+    int pass, n_passes;                   /* passes = column ranges x depth segments (memory) */
+    int n_cols, n_segs;                   /* pass q: columns q / n_segs, depth segment q % n_segs */
+    float seg_t0, seg_len;                /* depth (ray parameter t) covered by the segments */
+    /* Per own texel: a ray resumed segment by segment (0 new, 1 started, 2 done). */
+    uint8_t *ray_state[VR_MAX_2D_LEVELS];
+    float *ray_a[VR_MAX_2D_LEVELS], *ray_t[VR_MAX_2D_LEVELS];
+    int32_t *ray_k[VR_MAX_2D_LEVELS];
+    int tables_pending;                   /* brick tables still to come from GP 0 */
+    uint64_t t_pass_req;                  /* when this pass's requests were out */
+    vr_shade_consts_t shade_consts;
+    vr_probe_t probe;
+} vr_state_t;
+
+static inline size_t vr_bits_words(int nx, int ny, int nz)
+{
+    return (size_t)((nx + 63) / 64) * (size_t)ny * (size_t)nz;
+}
+
+static inline bool vr_bits_get(const bits_t *b, int x, int y, int z)
+{
+    return (b->w[((size_t)z * b->ny + y) * b->wpr + (x >> 6)] >> (x & 63)) & 1u;
+}
+
+static inline void vr_bits_set(bits_t *b, int x, int y, int z)
+{
+    b->w[((size_t)z * b->ny + y) * b->wpr + (x >> 6)] |= 1ull << (x & 63);
+}
+
+static inline fw_status_t vr_send_gp(gp_t *gp, unsigned dst, uint32_t sub, uint32_t a1, uint32_t a2,
+                           const void *payload, size_t bytes)
+{
+    uint32_t args[RING_MSG_ARGS] = {sub, a1, a2, 0, 0, 0};
+    return fw_send(gp, ring_addr(RING_NODE_GP, dst), RING_MSG_GP_USER, args, payload, bytes);
+}
+
+static inline bool vr_uses_exec(const vr_state_t *s)
+{
+    return s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_PP;
+}
+
+/* vr_octree.c */
+bool vr_bits_alloc(gp_t *gp, bits_t *b, int nx, int ny, int nz);
+bool vr_grid_build(gp_t *gp, octgrid_t *g, const bits_t *occ, int lo, int hi, fw_ops_t *ops);
+
+/* vr_setup.c */
+fw_status_t vr_setup_start(gp_t *gp);
+fw_status_t vr_setup_on_slab(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+fw_status_t vr_setup_on_levelk(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+
+/* vr_fetch.c */
+void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view);
+fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n,
+                                    unsigned requester);
+fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_start_cast_if_ready(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+
+/* vr_plan.c */
+fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame);
+void vr_plan_seg_range(const vr_state_t *s, int q, float *t0, float *t1);
+void vr_plan_pass_range(const vr_state_t *s, int q, float *x0, float *x1);
+fw_status_t vr_plan_footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_out);
+
+/* vr_cast.c */
+fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s);
+
+/* vr_resample.c */
+fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s);
+fw_status_t vr_resample_on_boundary(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+
+#endif

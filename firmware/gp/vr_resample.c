@@ -1,0 +1,120 @@
+/* vr_resample.c: per frame, the 2D mip map back to pixels: the boundary texel rows from the next GP, RenderPixel, and sections of at most 128 columns to the frame buffer. *
+ * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
+ * Partitioning, PP memory layout and the per-frame message sequence are in
+ * firmware/ARCHITECTURE.md. */
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "vr_gp_internal.h"
+
+static void bilerp(const vr_state_t *s, int l, int x, int y, float rgb[3])
+{
+    int i = x >> l, j = y >> l;
+    float sc = (float)(1 << l);
+    float u = (float)(x - (i << l)) / sc, v = (float)(y - (j << l)) / sc;
+    int w = s->tw[l];
+    const float *c00 = s->texel[l] + ((size_t)(j - s->jlo[l]) * w + i) * 3;
+    const float *c10 = u > 0.0f ? c00 + 3 : c00;
+    const float *c01 = v > 0.0f ? c00 + (size_t)w * 3 : c00;
+    const float *c11 = (u > 0.0f && v > 0.0f) ? c00 + ((size_t)w + 1) * 3 : (u > 0.0f ? c10 : c01);
+    for (int k = 0; k < 3; k++) {
+        float a = c00[k] + u * (c10[k] - c00[k]);
+        float b = c01[k] + u * (c11[k] - c01[k]);
+        rgb[k] = a + v * (b - a);
+    }
+}
+
+static inline uint8_t to_u8(float v)
+{
+    if (!(v > 0.0f))
+        return 0;
+    if (v >= 1.0f)
+        return 255;
+    return (uint8_t)(v * 255.0f + 0.5f);
+}
+
+fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
+{
+    if (!s->cast_done || !s->boundary_ok || s->probe.frame_done)
+        return FW_OK;
+    s->probe.t_boundary = fw_time_ps(gp);
+    uint64_t c0 = fw_cycles(gp);
+    const vr_config_t *c = &s->cfg;
+    int W = c->width, rows = s->y1 - s->y0;
+    /* Sections of at most 128 columns (one renderer region wide). */
+    for (int sx = 0; sx < W; sx += 128) {
+        int sw = W - sx < 128 ? W - sx : 128;
+        size_t bytes = (size_t)sw * rows * 3;
+        uint8_t *px = fw_alloc(gp, bytes);
+        if (!px)
+            return FW_ERROR;
+        for (int y = s->y0; y < s->y1; y++) {
+            const float *lrow = s->level + (size_t)(y - s->ly0) * W;
+            for (int x = sx; x < sx + sw; x++) {
+                float level = lrow[x], rgb[3];
+                int lo = (int)level;
+                if (lo >= s->levels2d)
+                    lo = s->levels2d - 1;
+                bilerp(s, lo, x, y, rgb);
+                float t = level - (float)lo;
+                if (t > 0.0f && lo + 1 < s->levels2d) {
+                    float hi[3];
+                    bilerp(s, lo + 1, x, y, hi);
+                    for (int k = 0; k < 3; k++)
+                        rgb[k] += t * (hi[k] - rgb[k]);
+                }
+                uint8_t *o = px + ((size_t)(y - s->y0) * sw + (x - sx)) * 3;
+                o[0] = to_u8(rgb[0]);
+                o[1] = to_u8(rgb[1]);
+                o[2] = to_u8(rgb[2]);
+            }
+        }
+        fw_ops_t ops = {0};
+        vr_cost_add(&ops, &VR_COST_PIXEL, (uint64_t)sw * rows);
+        fw_charge(gp, &ops);
+        uint32_t args[RING_MSG_ARGS] = {(uint32_t)(c->fb_x0 + sx), (uint32_t)(c->fb_y0 + s->y0),
+                                        (uint32_t)sw, (uint32_t)rows, 0, 0};
+        fw_status_t rc = fw_send(gp, ring_addr(RING_NODE_FB, 0), RING_MSG_FB_PIXELS, args, px, bytes);
+        fw_free(gp, px);
+        if (rc != FW_OK)
+            return rc;
+        s->probe.fb_bytes += bytes;
+    }
+    s->probe.cyc_pixels += fw_cycles(gp) - c0;
+    s->probe.t_done = fw_time_ps(gp);
+    s->probe.frame_done = 1;
+    /* Free the frame's brick cache now (memory is per frame); keep the 2D
+     * mip map when the host runs a progressive sequence. */
+    int all0 = 1;
+    for (int y = s->y0; y < s->y1 && all0; y++)
+        for (int x = 0; x < W; x++)
+            if (s->level[(size_t)(y - s->ly0) * W + x] > 0.0f) {
+                all0 = 0;
+                break;
+            }
+    s->probe.all_level0 = all0;
+    vr_frame_free(gp, s, (s->fr.progressive_keep & 1) != 0);
+    return FW_OK;
+}
+
+fw_status_t vr_resample_on_boundary(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
+{
+    size_t floats = 0;
+    for (int mm = 0; mm < s->levels2d; mm++)
+        floats += (size_t)s->tw[mm] * 3;
+    if (m->payload_bytes != floats * sizeof(float) || !s->texel[0])
+        return fw_fail(gp, "vr: boundary message of %zu bytes", m->payload_bytes);
+    const float *src = m->payload;
+    size_t off = 0;
+    for (int mm = 0; mm < s->levels2d; mm++) {
+        int rows = s->jhi[mm] - s->jlo[mm] + 1;
+        memcpy(s->texel[mm] + (size_t)rows * s->tw[mm] * 3, src + off, (size_t)s->tw[mm] * 3 * sizeof(float));
+        off += (size_t)s->tw[mm] * 3;
+    }
+    fw_ops_t ops = {0};
+    ops.loads = ops.stores = floats;
+    fw_charge(gp, &ops);
+    s->boundary_ok = true;
+    return vr_resample_if_ready(gp, s);
+}

@@ -1,0 +1,687 @@
+/* vr_setup.c: once per sequence on the GPs: the slab's 3D mip-map levels built and written into the renderers' backing store, then the octree and the brick table gathered on GP 0 and sent to every GP. *
+ * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
+ * Partitioning, PP memory layout and the per-frame message sequence are in
+ * firmware/ARCHITECTURE.md. */
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "vr_gp_internal.h"
+
+static inline float slab_at(const vr_state_t *s, int x, int y, int z)
+{
+    const vr_config_t *c = &s->cfg;
+    return s->slab[((size_t)(z - c->data_z0) * c->ny + y) * c->nx + x];
+}
+
+/* Level-0 components of one voxel (render/mip3d.c mip3d_base_slice with
+ * shade_gradient inlined). */
+static void base_voxel(const vr_state_t *s, int x, int y, int z, float *o, fw_ops_t *ops)
+{
+    const vr_config_t *c = &s->cfg;
+    int p[3] = {x, y, z}, n[3] = {c->nx, c->ny, c->nz};
+    float g[3];
+    for (int a = 0; a < 3; a++) {
+        int lo[3] = {x, y, z}, hi[3] = {x, y, z};
+        lo[a] = p[a] > 0 ? p[a] - 1 : p[a];
+        hi[a] = p[a] < n[a] - 1 ? p[a] + 1 : p[a];
+        int span = hi[a] - lo[a];
+        if (span == 0) {
+            g[a] = 0.0f;
+            continue;
+        }
+        float d = slab_at(s, hi[0], hi[1], hi[2]) - slab_at(s, lo[0], lo[1], lo[2]);
+        g[a] = d / (float)span * c->inv_spacing[a];
+    }
+    float rgb[3], nn[3] = {0.0f, 0.0f, 0.0f};
+    float gm = sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    float a = vr_classify(c, slab_at(s, x, y, z), gm, rgb);
+    vr_cost_add(ops, &VR_COST_VOXEL, 1);
+    vr_cost_add(ops, &VR_COST_CONTOUR, (uint64_t)c->tf_count);
+    for (int k = 0; k < s->stride; k++)
+        o[k] = 0.0f;
+    if (a <= 0.0f)
+        return;
+    if (gm > 0.0f)
+        for (int k = 0; k < 3; k++)
+            nn[k] = g[k] / gm;
+    float shade = 1.0f;
+    if (c->lighting != VR_LIGHT_MOVING)
+        shade = vr_diffuse(c, nn, c->light_dir);
+    for (int k = 0; k < 3; k++)
+        o[k] = a * rgb[k] * shade;
+    o[3] = a;
+    if (s->stride == 8)
+        for (int k = 0; k < 3; k++)
+            o[4 + k] = a * nn[k];
+}
+
+/* One output voxel of the 2x2x2 box filter (mip3d_filter_slice). src is the
+ * finer level with dims (snx, sny, snz) and z offset szo (its first slice). */
+static void filter_voxel(const float *src, int snx, int sny, int snz, int szo, int x, int y,
+                         int z, int stride, float *o, fw_ops_t *ops)
+{
+    float acc[8] = {0};
+    for (int dz = 0; dz < 2; dz++) {
+        int cz = 2 * z + dz;
+        if (cz >= snz)
+            continue;
+        for (int dy = 0; dy < 2; dy++) {
+            int cy = 2 * y + dy;
+            if (cy >= sny)
+                continue;
+            for (int dx = 0; dx < 2; dx++) {
+                int cx = 2 * x + dx;
+                if (cx >= snx)
+                    continue;
+                const float *cc = src + (((size_t)(cz - szo) * sny + cy) * snx + cx) * stride;
+                for (int k = 0; k < stride; k++)
+                    acc[k] += cc[k];
+            }
+        }
+    }
+    for (int k = 0; k < stride; k++)
+        o[k] = acc[k] * 0.125f;
+    vr_cost_add(ops, &VR_COST_FILTER_COMPONENT, (uint64_t)stride);
+}
+
+/* Quantise one voxel's components into blocks A and N (vr_shade_fixed.h). */
+static void quantise(const float *o, int stride, uint32_t *qa, uint32_t *qn, fw_ops_t *ops)
+{
+    *qa = vr_q8(o[0]) | vr_q8(o[1]) << 8 | vr_q8(o[2]) << 16 | vr_q8(o[3]) << 24;
+    if (stride == 8 && qn) {
+        float n[3] = {o[4], o[5], o[6]};
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (len > 0.0f)
+            for (int k = 0; k < 3; k++)
+                n[k] /= len;
+        *qn = vr_pack_normal(n);
+    }
+    vr_cost_add(ops, &VR_COST_QUANTISE, 1);
+}
+
+static int brick_id(const vr_state_t *s, int n, int bx, int by, int bz)
+{
+    const vr_level_geom_t *g = &s->geom[n];
+    return s->brick_base[n] + (bz * g->gy + by) * g->gx + bx;
+}
+
+/* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
+ * covering slices [z_first, ...) of the level. */
+static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
+                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops)
+{
+    const vr_level_geom_t *g = &s->geom[n];
+    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
+    if (!blk)
+        return FW_ERROR;
+    uint32_t *blkn = blk + VR_BRICK_VOXELS;
+    bool any = false;
+    for (int lz = 0; lz < g->bz; lz++)
+        for (int ly = 0; ly < g->by; ly++)
+            for (int lx = 0; lx < g->bx; lx++) {
+                int x = bx * g->bx + lx, y = by * g->by + ly, z = bz * g->bz + lz;
+                size_t i = ((size_t)lz * g->by + ly) * g->bx + lx;
+                if (x >= g->nx || y >= g->ny || z >= g->nz)
+                    continue;
+                size_t src = ((size_t)(z - z_first) * g->ny + y) * g->nx + x;
+                blk[i] = qa[src];
+                if (qn)
+                    blkn[i] = qn[src];
+                any |= (qa[src] >> 24) != 0;
+            }
+    ops->loads += VR_BRICK_VOXELS * 2u;
+    ops->stores += VR_BRICK_VOXELS * 2u;
+    ops->int_ops += VR_BRICK_VOXELS * 4u;
+    fw_charge(gp, ops);
+    memset(ops, 0, sizeof *ops);
+    fw_status_t rc = FW_OK;
+    if (any) {
+        int id = brick_id(s, n, bx, by, bz);
+        unsigned r = (unsigned)id % (unsigned)s->n_r, slot = (unsigned)id / (unsigned)s->n_r;
+        unsigned base = slot * (unsigned)s->blocks_per_slot;
+        uint32_t args[RING_MSG_ARGS] = {base, 0, 0, 0, 0, 0};
+        rc = fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS, args, blk,
+                     VR_BRICK_VOXELS * 4u);
+        if (rc == FW_OK && qn) {
+            args[0] = base + 1;
+            rc = fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS, args,
+                         blkn, VR_BRICK_VOXELS * 4u);
+        }
+        s->probe.setup_bricks_written++;
+    }
+    fw_free(gp, blk);
+    return rc;
+}
+
+static size_t level_voxels(const vr_level_geom_t *g, int slices)
+{
+    return (size_t)g->nx * (size_t)g->ny * (size_t)slices;
+}
+
+/* Builds this GP's slab: level 0 strip by strip, levels 1..K from each
+ * strip, bricks written to the renderers as soon as they are complete. */
+static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
+{
+    const vr_config_t *c = &s->cfg;
+    int K = c->slab_k, T = c->slab_t, z0 = s->g * T;
+    fw_ops_t ops = {0};
+    int zs[VR_MAX_LEVELS], ts[VR_MAX_LEVELS];
+    for (int n = 0; n <= K; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        zs[n] = z0 >> n;
+        ts[n] = g->slab_t;
+        if (zs[n] + ts[n] > g->nz)
+            ts[n] = g->nz - zs[n];
+        if (ts[n] < 0)
+            ts[n] = 0;
+    }
+    /* Whole-slab float storage for levels 1..K (small), quantised A/N for
+     * the same; level 0 lives one strip at a time. */
+    /* Strip height: one level-0 brick row (32 rows), or the whole slice when
+     * a brick holds every row (small volumes); a multiple of 2^K so that every
+     * level's strip rows are complete. */
+    int unit = 1 << K;
+    /* brow: rows of one level-0 brick row (quantised blocks are staged until
+     * a brick row is complete); rows: rows of float components built at a
+     * time (2^K, so every level's rows are complete per strip). */
+    int brow = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
+                                              : s->geom[0].by;
+    int rows = brow % unit == 0 ? unit : brow;
+    float *lvl[VR_MAX_LEVELS] = {0};
+    int lrow0[VR_MAX_LEVELS] = {0}, lrows[VR_MAX_LEVELS] = {0};
+    uint8_t *occb[VR_MAX_LEVELS] = {0};
+    for (int n = 1; n <= K; n++) {
+        size_t cnt = level_voxels(&s->geom[n], ts[n] > 0 ? ts[n] : 1);
+        /* Levels below K: one strip's rows; level K: the whole slab (it goes to GP 0). */
+        lrows[n] = n < K ? ((rows + (1 << n) - 1) >> n) : s->geom[n].ny;
+        if (lrows[n] < 1)
+            lrows[n] = 1;
+        size_t lcnt = (size_t)s->geom[n].nx * lrows[n] * (ts[n] > 0 ? ts[n] : 1);
+        lvl[n] = fw_alloc(gp, lcnt * (size_t)s->stride * sizeof(float));
+        occb[n] = fw_alloc(gp, cnt / 8 + 1);
+        if (!occb[n])
+            return FW_ERROR;
+        s->qa[n] = fw_alloc(gp, cnt * 4);
+        s->qn[n] = s->stride == 8 ? fw_alloc(gp, cnt * 4) : NULL;
+        if (!lvl[n] || !s->qa[n] || (s->stride == 8 && !s->qn[n]))
+            return FW_ERROR;
+    }
+    const vr_level_geom_t *g0 = &s->geom[0];
+    size_t strip_vox = (size_t)g0->nx * rows * (ts[0] > 0 ? ts[0] : 1);
+    size_t stage_vox = (size_t)g0->nx * brow * (ts[0] > 0 ? ts[0] : 1);
+    float *strip = fw_alloc(gp, strip_vox * (size_t)s->stride * sizeof(float));
+    uint32_t *sqa = fw_alloc(gp, stage_vox * 4), *sqn = s->stride == 8 ? fw_alloc(gp, stage_vox * 4) : NULL;
+    /* Full-slab level-0 occupancy bits to send to GP 0. */
+    size_t occ0_count = level_voxels(g0, ts[0]);
+    uint8_t *occ0 = fw_alloc(gp, occ0_count / 8 + 1);
+    if (!strip || !sqa || (s->stride == 8 && !sqn) || !occ0)
+        return FW_ERROR;
+    for (int sy = 0; sy < g0->ny; sy += rows) {
+        int ry = g0->ny - sy < rows ? g0->ny - sy : rows;
+        int brow0 = (sy / brow) * brow;
+        for (int z = 0; z < ts[0]; z++)
+            for (int y = 0; y < ry; y++)
+                for (int x = 0; x < g0->nx; x++) {
+                    size_t i = ((size_t)z * rows + y) * g0->nx + x;
+                    size_t qi = ((size_t)z * brow + (sy + y - brow0)) * g0->nx + x;
+                    float *o = strip + i * s->stride;
+                    base_voxel(s, x, sy + y, zs[0] + z, o, &ops);
+                    quantise(o, s->stride, &sqa[qi], sqn ? &sqn[qi] : NULL, &ops);
+                    if (o[3] > 0.0f) {
+                        size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
+                        occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
+                    }
+                }
+        s->probe.setup_voxels_built += (uint64_t)ts[0] * ry * g0->nx;
+        /* Level-0 bricks of this strip: rows [sy, sy + ry) cover whole
+         * brick rows because by_0 divides the strip (32 = by when bz = 8,
+         * bx = 64; otherwise bricks are written from a gathered copy). */
+        bool row_done = sy + ry >= brow0 + brow || sy + ry >= g0->ny;
+        if (brow % rows != 0 || (g0->by != brow && g0->by < g0->ny)) {
+            return fw_fail(gp, "vr: level-0 brick height %d does not match the %d-row strip",
+                           g0->by, rows);
+        } else if (row_done) {
+            for (int bz = zs[0] / g0->bz; bz * g0->bz < zs[0] + ts[0]; bz++)
+                for (int by = brow0 / g0->by; by * g0->by < brow0 + brow && by < g0->gy; by++)
+                    for (int bx = 0; bx < g0->gx; bx++) {
+                        /* view the strip as a level array starting at slice zs[0], row sy */
+                        const vr_level_geom_t *g = g0;
+                        uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 8u);
+                        if (!blk)
+                            return FW_ERROR;
+                        uint32_t *blkn = blk + VR_BRICK_VOXELS;
+                        bool any = false;
+                        for (int lz = 0; lz < g->bz; lz++)
+                            for (int ly = 0; ly < g->by; ly++)
+                                for (int lx = 0; lx < g->bx; lx++) {
+                                    int x = bx * g->bx + lx, y = by * g->by + ly,
+                                        z = bz * g->bz + lz;
+                                    size_t bi = ((size_t)lz * g->by + ly) * g->bx + lx;
+                                    if (x >= g->nx || y >= g->ny || z >= g->nz || y < brow0 ||
+                                        y >= brow0 + brow)
+                                        continue;
+                                    size_t si = ((size_t)(z - zs[0]) * brow + (y - brow0)) * g->nx + x;
+                                    blk[bi] = sqa[si];
+                                    if (sqn)
+                                        blkn[bi] = sqn[si];
+                                    any |= (sqa[si] >> 24) != 0;
+                                }
+                        ops.loads += VR_BRICK_VOXELS * 2u;
+                        ops.stores += VR_BRICK_VOXELS * 2u;
+                        ops.int_ops += VR_BRICK_VOXELS * 4u;
+                        fw_charge(gp, &ops);
+                        memset(&ops, 0, sizeof ops);
+                        if (any) {
+                            int id = brick_id(s, 0, bx, by, bz);
+                            unsigned r = (unsigned)id % (unsigned)s->n_r;
+                            unsigned base = ((unsigned)id / (unsigned)s->n_r) * (unsigned)s->blocks_per_slot;
+                            uint32_t args[RING_MSG_ARGS] = {base, 0, 0, 0, 0, 0};
+                            if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS,
+                                        args, blk, VR_BRICK_VOXELS * 4u) != FW_OK)
+                                return FW_ERROR;
+                            if (sqn) {
+                                args[0] = base + 1;
+                                if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r),
+                                            RING_MSG_RENDERER_WRITE_BS, args, blkn,
+                                            VR_BRICK_VOXELS * 4u) != FW_OK)
+                                    return FW_ERROR;
+                            }
+                            s->probe.setup_bricks_written++;
+                        }
+                        fw_free(gp, blk);
+                    }
+        }
+        /* Levels 1..K of this strip. */
+        const float *src = strip;
+        int srows = rows, sy_n = sy;
+        for (int n = 1; n <= K; n++) {
+            const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
+            int ny0 = sy_n / 2, nrows = (srows + 1) / 2;
+            if (n < K)
+                lrow0[n] = ny0;
+            for (int z = 0; z < ts[n]; z++)
+                for (int y = ny0; y < ny0 + nrows && y < g->ny; y++)
+                    for (int x = 0; x < g->nx; x++) {
+                        size_t i = ((size_t)z * g->ny + y) * g->nx + x;
+                        float *o = lvl[n] + (((size_t)z * lrows[n] + (y - lrow0[n])) * g->nx + x) * s->stride;
+                        /* children rows 2y, 2y+1 of the source strip/level */
+                        float acc[8] = {0};
+                        for (int dz = 0; dz < 2; dz++) {
+                            int cz = 2 * (zs[n] + z) + dz;
+                            if (cz >= gs->nz)
+                                continue;
+                            for (int dy = 0; dy < 2; dy++) {
+                                int cy = 2 * y + dy;
+                                if (cy >= gs->ny)
+                                    continue;
+                                for (int dx = 0; dx < 2; dx++) {
+                                    int cx = 2 * x + dx;
+                                    if (cx >= gs->nx)
+                                        continue;
+                                    const float *cc;
+                                    if (n == 1)
+                                        cc = src + (((size_t)(cz - zs[0]) * rows + (cy - sy)) * gs->nx + cx) * s->stride;
+                                    else
+                                        cc = lvl[n - 1] + (((size_t)(cz - zs[n - 1]) * lrows[n - 1] + (cy - lrow0[n - 1])) * gs->nx + cx) * s->stride;
+                                    for (int k = 0; k < s->stride; k++)
+                                        acc[k] += cc[k];
+                                }
+                            }
+                        }
+                        for (int k = 0; k < s->stride; k++)
+                            o[k] = acc[k] * 0.125f;
+                        vr_cost_add(&ops, &VR_COST_FILTER_COMPONENT, (uint64_t)s->stride);
+                        quantise(o, s->stride, &s->qa[n][i], s->qn[n] ? &s->qn[n][i] : NULL, &ops);
+                        if (o[3] > 0.0f)
+                            occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
+                    }
+            sy_n = ny0;
+            srows = nrows;
+        }
+        fw_charge(gp, &ops);
+        memset(&ops, 0, sizeof ops);
+    }
+    fw_free(gp, strip);
+    fw_free(gp, sqa);
+    if (sqn)
+        fw_free(gp, sqn);
+    /* Level-0 occupancy to GP 0. */
+    if (vr_send_gp(gp, 0, VR_MSG_OCC, 0, (uint32_t)zs[0], occ0, (occ0_count + 7) / 8) != FW_OK)
+        return FW_ERROR;
+    fw_free(gp, occ0);
+    /* Levels 1..K: bricks, occupancy; level K floats to GP 0. */
+    for (int n = 1; n <= K; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        if (ts[n] > 0) {
+            for (int bz = zs[n] / g->bz; bz * g->bz < zs[n] + ts[n]; bz++)
+                for (int by = 0; by < g->gy; by++)
+                    for (int bx = 0; bx < g->gx; bx++)
+                        if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], zs[n], &ops) != FW_OK)
+                            return FW_ERROR;
+            if (vr_send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)zs[n], occb[n],
+                        (level_voxels(g, ts[n]) + 7) / 8) != FW_OK)
+                return FW_ERROR;
+        }
+        fw_free(gp, s->qa[n]);
+        if (s->qn[n])
+            fw_free(gp, s->qn[n]);
+        s->qa[n] = s->qn[n] = NULL;
+    }
+    if (ts[K] > 0 && K + 1 < c->levels) {
+        size_t cnt = level_voxels(&s->geom[K], ts[K]);
+        if (vr_send_gp(gp, 0, VR_MSG_LEVELK, (uint32_t)zs[K], (uint32_t)ts[K], lvl[K],
+                    cnt * (size_t)s->stride * sizeof(float)) != FW_OK)
+            return FW_ERROR;
+    }
+    for (int n = 1; n <= K; n++) {
+        fw_free(gp, lvl[n]);
+        fw_free(gp, occb[n]);
+    }
+    return FW_OK;
+}
+
+/* GP 0, once every level-K slab arrived: levels K+1..top, their bricks and
+ * occupancy. */
+static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
+{
+    const vr_config_t *c = &s->cfg;
+    fw_ops_t ops = {0};
+    for (int n = c->slab_k + 1; n < c->levels; n++) {
+        const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
+        size_t cnt = level_voxels(g, g->nz);
+        s->upper[n] = fw_alloc(gp, cnt * (size_t)s->stride * sizeof(float));
+        uint32_t *qa = fw_alloc(gp, cnt * 4), *qn = s->stride == 8 ? fw_alloc(gp, cnt * 4) : NULL;
+        if (!s->upper[n] || !qa || (s->stride == 8 && !qn))
+            return FW_ERROR;
+        for (int z = 0; z < g->nz; z++)
+            for (int y = 0; y < g->ny; y++)
+                for (int x = 0; x < g->nx; x++) {
+                    size_t i = ((size_t)z * g->ny + y) * g->nx + x;
+                    filter_voxel(s->upper[n - 1], gs->nx, gs->ny, gs->nz, 0, x, y, z, s->stride,
+                                 s->upper[n] + i * s->stride, &ops);
+                    quantise(s->upper[n] + i * s->stride, s->stride, &qa[i], qn ? &qn[i] : NULL, &ops);
+                    if (s->upper[n][i * s->stride + 3] > 0.0f)
+                        vr_bits_set(&s->occ[n], x, y, z);
+                }
+        for (int bz = 0; bz < g->gz; bz++)
+            for (int by = 0; by < g->gy; by++)
+                for (int bx = 0; bx < g->gx; bx++)
+                    if (write_brick(gp, s, n, bx, by, bz, qa, qn, 0, &ops) != FW_OK)
+                        return FW_ERROR;
+        fw_free(gp, qa);
+        if (qn)
+            fw_free(gp, qn);
+    }
+    fw_charge(gp, &ops);
+    for (int n = c->slab_k; n < c->levels; n++) {
+        fw_free(gp, s->upper[n]);
+        s->upper[n] = NULL;
+    }
+    return FW_OK;
+}
+
+static void nonempty_table(vr_state_t *s)
+{
+    for (int n = 0; n < s->cfg.levels; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        uint8_t *t = s->brick_nonempty[n];
+        for (int z = 0; z < g->nz; z++)
+            for (int y = 0; y < g->ny; y++)
+                for (int x = 0; x < g->nx; x++)
+                    if (vr_bits_get(&s->occ[n], x, y, z))
+                        t[((z / g->bz) * g->gy + y / g->by) * g->gx + x / g->bx] = 1;
+    }
+}
+
+static fw_status_t alloc_shared(gp_t *gp, vr_state_t *s, bool with_grids)
+{
+    for (int n = 0; n < s->cfg.levels; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        s->brick_nonempty[n] = fw_alloc(gp, (size_t)g->gx * g->gy * g->gz);
+        if (!s->brick_nonempty[n])
+            return FW_ERROR;
+        if (!with_grids)
+            continue;
+        octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
+        for (int k = s->cfg.perspective ? 0 : 1; k < 2; k++) {
+            int nx = g->nx, ny = g->ny, nz = g->nz;
+            gs[k]->heights = 0;
+            for (int h = 0; h < VR_MAX_LEVELS; h++) {
+                if (!vr_bits_alloc(gp, &gs[k]->occ[h], nx, ny, nz))
+                    return FW_ERROR;
+                gs[k]->heights = h + 1;
+                if (nx == 1 && ny == 1 && nz == 1)
+                    break;
+                nx = (nx + 1) / 2;
+                ny = (ny + 1) / 2;
+                nz = (nz + 1) / 2;
+            }
+        }
+    }
+    return FW_OK;
+}
+
+static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
+{
+    fw_ops_t ops = {0};
+    if (alloc_shared(gp, s, false) != FW_OK)
+        return FW_ERROR;
+    for (int n = 0; n < s->cfg.levels; n++) {
+        /* The blended-level grids serve perspective views only: a parallel
+         * view samples integer 3D levels (raycast.h), which read the exact
+         * grids.  Not building them saves about 1 MB per GP at 256^2 x 109. */
+        if ((s->cfg.perspective && !vr_grid_build(gp, &s->grid[n], &s->occ[n], 2, 3, &ops)) ||
+            !vr_grid_build(gp, &s->exact[n], &s->occ[n], 0, 1, &ops))
+            return FW_ERROR;
+    }
+    nonempty_table(s);
+    for (int n = 0; n < s->cfg.levels; n++) {
+        fw_free(gp, s->occ[n].w);
+        s->occ[n].w = NULL;
+    }
+    fw_charge(gp, &ops);
+    s->have_octree = true;
+    /* Broadcast: one message per grid height and one per brick table,
+     * straight from the octree's memory (fw_send copies the payload). */
+    for (int h = 1; h < s->n_gp; h++) {
+        for (int n = 0; n < s->cfg.levels; n++) {
+            octgrid_t *gs[2] = {&s->grid[n], &s->exact[n]};
+            for (int k = s->cfg.perspective ? 0 : 1; k < 2; k++)
+                for (int hh = 0; hh < gs[k]->heights; hh++) {
+                    const bits_t *b = &gs[k]->occ[hh];
+                    if (vr_send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xffffffffu,
+                                (uint32_t)(n << 8 | k << 7 | hh), b->w,
+                                vr_bits_words(b->nx, b->ny, b->nz) * 8) != FW_OK)
+                        return FW_ERROR;
+                }
+            const vr_level_geom_t *g = &s->geom[n];
+            if (vr_send_gp(gp, (unsigned)h, VR_MSG_OCC, 0xfffffffeu, (uint32_t)n,
+                        s->brick_nonempty[n], (size_t)g->gx * g->gy * g->gz) != FW_OK)
+                return FW_ERROR;
+        }
+    }
+    return FW_OK;
+}
+
+fw_status_t vr_setup_start(gp_t *gp)
+{
+    size_t bytes = 0;
+    const uint8_t *data = fw_host_data(gp, &bytes);
+    if (!data || bytes < sizeof(vr_config_t))
+        return fw_fail(gp, "vr: host data missing or short (%zu bytes)", bytes);
+    vr_state_t *s = fw_alloc(gp, sizeof *s);
+    if (!s)
+        return FW_ERROR;
+    fw_set_state(gp, s);
+    memcpy(&s->cfg, data, sizeof s->cfg);
+    const vr_config_t *c = &s->cfg;
+    if (c->magic != VR_MAGIC || c->levels < 1 || c->levels > VR_MAX_LEVELS)
+        return fw_fail(gp, "vr: bad configuration block");
+    const fw_machine_info_t *mi = fw_machine_info(gp);
+    s->g = (int)fw_gp_index(gp);
+    s->n_gp = (int)mi->n_gp;
+    s->n_r = (int)mi->n_renderers;
+    s->stride = c->lighting == VR_LIGHT_DIFFUSE ? 4 : 8;
+    s->blocks_per_slot = c->lighting == VR_LIGHT_DIFFUSE ? 1 : 3;
+    vr_geometry(c, s->geom);
+    int id = 0;
+    for (int n = 0; n < c->levels; n++) {
+        s->brick_base[n] = id;
+        id += s->geom[n].gx * s->geom[n].gy * s->geom[n].gz;
+    }
+    s->n_bricks = id;
+    s->probe.n_bricks_total = (uint64_t)id;
+    unsigned slots = (unsigned)((id + s->n_r - 1) / s->n_r);
+    s->probe.max_slots_used = slots;
+    unsigned bs_blocks = fw_machine_info(gp)->pp_bs_blocks;
+    if (slots * (unsigned)s->blocks_per_slot > bs_blocks)
+        return fw_fail(gp, "vr: the 3D mip map needs %u backing-store blocks per PP "
+                           "(%d bricks of %u voxels over %d renderers, %d blocks each); "
+                           "a PP has %u (facts §3.1)",
+                       slots * (unsigned)s->blocks_per_slot, id, VR_BRICK_VOXELS, s->n_r,
+                       s->blocks_per_slot, bs_blocks);
+    /* Opacity-correction table (raycast_ctx_init) and byte->float table. */
+    fw_ops_t ops = {0};
+    for (int l = 0; l < VR_LUT_LEVELS; l++) {
+        double spacing = (double)c->sample_step * (double)(1 << l);
+        for (int i = 0; i <= VR_LUT_SIZE; i++)
+            s->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / VR_LUT_SIZE, spacing));
+    }
+    vr_cost_add(&ops, &VR_COST_LEVEL_TRANS, (uint64_t)VR_LUT_LEVELS * (VR_LUT_SIZE + 1));
+    for (int i = 0; i < 256; i++)
+        s->u8_to_f[i] = (float)i / 255.0f;
+    ops.fdiv += 256;
+    fw_charge(gp, &ops);
+    s->cache = fw_alloc(gp, (size_t)id * sizeof(uint32_t *));
+    s->cache_n = fw_alloc(gp, (size_t)id * sizeof(uint32_t *));
+    if (!s->cache || !s->cache_n)
+        return FW_ERROR;
+    if (s->g == 0) {
+        for (int n = 0; n < c->levels; n++)
+            if (!vr_bits_alloc(gp, &s->occ[n], s->geom[n].nx, s->geom[n].ny, s->geom[n].nz))
+                return FW_ERROR;
+        s->occ_pending = 0;
+        for (int h = 0; h < c->n_slab_gps; h++)
+            for (int n = 0; n <= c->slab_k && n < c->levels; n++) {
+                int z0 = (h * c->slab_t) >> n;
+                if (z0 < s->geom[n].nz)
+                    s->occ_pending++;
+            }
+        s->levk_pending = c->slab_k + 1 < c->levels ? c->n_slab_gps : 0;
+        if (c->slab_k + 1 < c->levels) {
+            const vr_level_geom_t *gk = &s->geom[c->slab_k];
+            s->upper[c->slab_k] = fw_alloc(gp, level_voxels(gk, gk->nz) * (size_t)s->stride * sizeof(float));
+            if (!s->upper[c->slab_k])
+                return FW_ERROR;
+        }
+    }
+    s->tables_pending = s->g == 0 ? 0 : c->levels;
+    s->probe.setup_cycles = fw_cycles(gp);
+    return FW_OK;
+}
+
+/* The host's slab (slices [data_z0, data_z1)) arrives as one message: it is
+ * copied into local memory, the slab's mip levels are built and sent, and
+ * the copy is freed (it is not needed per frame). */
+fw_status_t vr_setup_on_slab(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
+{
+    const vr_config_t *c = &s->cfg;
+    size_t need = (size_t)(c->data_z1 - c->data_z0) * c->nx * c->ny * sizeof(float);
+    if (m->payload_bytes != need || s->g >= c->n_slab_gps)
+        return fw_fail(gp, "vr: slab message of %zu bytes, expected %zu", m->payload_bytes, need);
+    float *copy = fw_alloc(gp, need);
+    if (!copy)
+        return fw_fail(gp, "vr: GP %d cannot hold its %zu-byte slab", s->g, need);
+    memcpy(copy, m->payload, need);
+    fw_ops_t ops = {0};
+    ops.ext_bytes = need;
+    fw_charge(gp, &ops);
+    s->slab = copy;
+    fw_status_t rc = build_slab(gp, s);
+    fw_free(gp, copy);
+    s->slab = NULL;
+    return rc;
+}
+
+static fw_status_t maybe_finish_setup(gp_t *gp, vr_state_t *s)
+{
+    if (s->g != 0 || s->have_octree || s->levk_pending > 0 || s->occ_pending > 0)
+        return FW_OK;
+    return finish_octree(gp, s);
+}
+
+fw_status_t vr_setup_on_levelk(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
+{
+    const vr_level_geom_t *gk = &s->geom[s->cfg.slab_k];
+    /* args[1] = first slice, args[2] = slices */
+    size_t slice_floats = (size_t)gk->nx * gk->ny * (size_t)s->stride;
+    size_t z_first = m->args[1], z_count = m->args[2];
+    if (z_first + z_count > (size_t)gk->nz || m->payload_bytes != z_count * slice_floats * sizeof(float))
+        return fw_fail(gp, "vr: malformed level-K slab message");
+    memcpy(s->upper[s->cfg.slab_k] + z_first * slice_floats, m->payload, m->payload_bytes);
+    fw_ops_t ops = {0};
+    ops.loads = ops.stores = m->payload_bytes / 4;
+    fw_charge(gp, &ops);
+    if (--s->levk_pending == 0 && build_upper(gp, s) != FW_OK)
+        return FW_ERROR;
+    return maybe_finish_setup(gp, s);
+}
+
+fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
+{
+    if (m->args[1] == 0xffffffffu || m->args[1] == 0xfffffffeu) {
+        /* octree broadcast from GP 0: one grid height or one brick table */
+        if (!s->brick_nonempty[0] && alloc_shared(gp, s, true) != FW_OK)
+            return FW_ERROR;
+        void *dst;
+        size_t want;
+        if (m->args[1] == 0xfffffffeu) {
+            int n = (int)m->args[2];
+            if (n < 0 || n >= s->cfg.levels)
+                return fw_fail(gp, "vr: brick table for level %d", n);
+            const vr_level_geom_t *g = &s->geom[n];
+            dst = s->brick_nonempty[n];
+            want = (size_t)g->gx * g->gy * g->gz;
+            s->tables_pending--;
+        } else {
+            int n = (int)(m->args[2] >> 8), k = (int)((m->args[2] >> 7) & 1), hh = (int)(m->args[2] & 127);
+            octgrid_t *gr = k ? &s->exact[n] : &s->grid[n];
+            if (n >= s->cfg.levels || hh >= gr->heights)
+                return fw_fail(gp, "vr: octree grid message (%d, %d, %d)", n, k, hh);
+            dst = gr->occ[hh].w;
+            want = vr_bits_words(gr->occ[hh].nx, gr->occ[hh].ny, gr->occ[hh].nz) * 8;
+        }
+        if (m->payload_bytes != want)
+            return fw_fail(gp, "vr: octree message of %zu bytes, expected %zu", m->payload_bytes, want);
+        memcpy(dst, m->payload, want);
+        fw_ops_t ops = {0};
+        ops.ext_bytes = want;
+        fw_charge(gp, &ops);
+        if (s->tables_pending == 0)
+            s->have_octree = true;
+        return FW_OK;
+    }
+    int n = (int)m->args[1], z0 = (int)m->args[2];
+    if (n < 0 || n >= s->cfg.levels)
+        return fw_fail(gp, "vr: occupancy for level %d", n);
+    const vr_level_geom_t *g = &s->geom[n];
+    const uint8_t *b = m->payload;
+    size_t count = m->payload_bytes * 8;
+    size_t plane = (size_t)g->nx * g->ny;
+    fw_ops_t ops = {0};
+    for (size_t i = 0; i < count; i++) {
+        if (!((b[i >> 3] >> (i & 7)) & 1))
+            continue;
+        size_t z = (size_t)z0 + i / plane, r = i % plane;
+        if (z >= (size_t)g->nz)
+            break;
+        vr_bits_set(&s->occ[n], (int)(r % g->nx), (int)(r / g->nx), (int)z);
+        ops.int_ops += 6;
+    }
+    ops.loads += m->payload_bytes;
+    ops.int_ops += m->payload_bytes * 8;
+    fw_charge(gp, &ops);
+    s->occ_pending--;
+    return maybe_finish_setup(gp, s);
+}
