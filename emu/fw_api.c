@@ -205,3 +205,37 @@ fw_status_t fw_fail(gp_t *gp, const char *fmt, ...)
     return FW_ERROR;
 }
 
+
+/* ---- named statistics ---- */
+
+fw_stat_t fw_stat_declare(gp_t *gp, const char *name, fw_stat_kind_t kind, const char *unit,
+                          const char *meaning)
+{
+    for (unsigned i = 0; i < gp->n_stats; i++)
+        if (strcmp(gp->stats[i].name, name) == 0)
+            return (fw_stat_t)i;
+    if (gp->n_stats == FW_MAX_STATS || strlen(name) >= sizeof gp->stats[0].name) {
+        gp_record_error(gp, "fw_stat_declare(\"%s\"): more than %d statistics or a name over "
+                        "%zu characters", name, FW_MAX_STATS, sizeof gp->stats[0].name - 1);
+        return -1;
+    }
+    gp_stat_t *st = &gp->stats[gp->n_stats];
+    snprintf(st->name, sizeof st->name, "%s", name);
+    st->kind = kind;
+    st->unit = unit;
+    st->meaning = meaning;
+    st->value = 0;
+    return (fw_stat_t)gp->n_stats++;
+}
+
+void fw_stat_add(gp_t *gp, fw_stat_t id, uint64_t n)
+{
+    if (id >= 0 && (unsigned)id < gp->n_stats)
+        gp->stats[id].value += n;
+}
+
+void fw_stat_set(gp_t *gp, fw_stat_t id, uint64_t value)
+{
+    if (id >= 0 && (unsigned)id < gp->n_stats)
+        gp->stats[id].value = value;
+}

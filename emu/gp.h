@@ -37,6 +37,14 @@ struct gp_block {
 };
 
 
+/* One statistic a program published (fw_stat_declare). */
+typedef struct {
+    char name[32];
+    fw_stat_kind_t kind;
+    const char *unit, *meaning;   /* static strings of the program */
+    uint64_t value;
+} gp_stat_t;
+
 typedef struct {
     ring_msg_t msg;       /* payload points at `payload_copy` */
     void *payload_copy;
@@ -74,6 +82,8 @@ struct gp {
     bool run_scheduled;
 
     uint64_t msgs_sent, msgs_received, bytes_sent;
+    gp_stat_t stats[FW_MAX_STATS];    /* the program's named statistics */
+    unsigned n_stats;
     bool fw_error;
     char error[256];
 

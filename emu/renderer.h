@@ -1,9 +1,6 @@
 /* renderer.h: one Pixel-Planes 5 renderer: a 128x128 array of bit-serial PPs,
  * its QEE, its backing store, and the cycle accounting of the streams it runs.
  *
- * changed: added renderer_stats_write_json (per-class and per-opcode counters
- *          for the report); seam with emu-core, change only additively
- *
  * Time.  renderer_execute charges renderer-clock cycles from the pp_isa.def cost
  * column.  Compute instructions run one after another (compute_cycles).  A
  * BSLOAD/BSSTORE costs pp.bs_issue_cycles of compute, then its transfer occupies
@@ -90,9 +87,5 @@ pp5_status_t renderer_write_field(renderer_t *r, unsigned addr, unsigned bits, c
 pp5_status_t renderer_bs_read(const renderer_t *r, unsigned block, uint32_t *out);
 pp5_status_t renderer_bs_write(renderer_t *r, unsigned block, const uint32_t *in);
 
-/* The cumulative counters as one JSON object: totals, then
- * "cycles_by_class" / "instructions_by_class" (keys pp_class_name) and
- * "cycles_by_opcode" / "instructions_by_opcode" (opcodes that ran). */
-void renderer_stats_write_json(const renderer_stats_t *s, json_writer_t *j);
 
 #endif

@@ -1,11 +1,15 @@
-/* report.h: the JSON run report (--report FILE.json): frame time, unit busy times, ring traffic, parameters.
+/* report.h: the JSON run report (--report FILE.json): who ran what, every machine parameter, and every named statistic.
  *
- * Keys other tools read (stable): frame_time_s (mean over frames),
- * frames_total_s, frames[] (each with its own frame_time_s), gp[].busy_s,
- * renderers[].busy_s, renderers[].cycles, ring.bytes (total, by_class,
- * by_channel), ring.utilization (aggregate, by_channel), machine (every
- * parameter), pp5_version, command_line, inputs[] (name + FNV-1a 64 hash).
- * "counters" holds every named statistic of stats.c. */
+ * Written from the statistics registry only (stats.h), so a figure in a
+ * report is always the same figure pp5 prints or tests.  Keys:
+ * pp5_version, workload, command_line, inputs[] (name + FNV-1a 64 hash),
+ * frame_stops[], gp_programs[], machine (every parameter), statistics (the
+ * named statistics nested by the dots of their names: statistics.sim.
+ * frame_time_s, statistics.frame[i].frame_time_s, statistics.gp[g].busy_s,
+ * statistics.gp[g].prog.* (what the GP program published),
+ * statistics.renderer[r].pp.cycles_by_class, statistics.ring.by_class.data.
+ * bytes_sent, statistics.ring.by_channel[c].utilization, ...) and
+ * descriptions (each statistic's unit, kind and meaning). */
 #ifndef PP5_REPORT_H
 #define PP5_REPORT_H
 

@@ -98,14 +98,8 @@ void mip3d_free(mip3d_t *m)
     memset(m, 0, sizeof *m);
 }
 
-pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
-                         const shade_params_t *shade, int threads)
+void mip3d_geometry(mip3d_t *m, const volume_t *v)
 {
-    memset(m, 0, sizeof *m);
-    if (!v->data || v->nx < 1 || v->ny < 1 || v->nz < 1)
-        return pp5_fail(PP5_E_RANGE, "mip3d: empty volume");
-    m->lighting = shade->lighting;
-    m->stride = shade->lighting == SHADE_DIFFUSE_FIXED_LIGHT ? 4 : 8;
     double sp[3], smin = 0.0;
     for (int a = 0; a < 3; a++) {
         sp[a] = v->spacing[a] > 0.0 && isfinite(v->spacing[a]) ? v->spacing[a] : 1.0;
@@ -117,29 +111,44 @@ pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
         m->inv_spacing[a] = (float)(smin / sp[a]);
     }
     int nx = v->nx, ny = v->ny, nz = v->nz;
+    m->levels = 0;
     for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
-        size_t voxels, floats;
-        if (!pp5_mul3_size((size_t)nx, (size_t)ny, (size_t)nz, &voxels) ||
-            !pp5_mul_size(voxels, (size_t)m->stride * sizeof(float), &floats)) {
-            mip3d_free(m);
-            return pp5_fail(PP5_E_NOMEM, "mip3d: level %d too large", n);
-        }
         m->level[n].nx = nx;
         m->level[n].ny = ny;
         m->level[n].nz = nz;
-        m->level[n].data = malloc(floats);
-        if (!m->level[n].data) {
-            mip3d_free(m);
-            return pp5_fail(PP5_E_NOMEM, "mip3d: cannot allocate %zu bytes for level %d",
-                            floats, n);
-        }
-        m->bytes += floats;
         m->levels = n + 1;
         if (nx == 1 && ny == 1 && nz == 1)
             break;
         nx = (nx + 1) / 2;
         ny = (ny + 1) / 2;
         nz = (nz + 1) / 2;
+    }
+}
+
+pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
+                         const shade_params_t *shade, int threads)
+{
+    memset(m, 0, sizeof *m);
+    if (!v->data || v->nx < 1 || v->ny < 1 || v->nz < 1)
+        return pp5_fail(PP5_E_RANGE, "mip3d: empty volume");
+    m->lighting = shade->lighting;
+    m->stride = shade->lighting == SHADE_DIFFUSE_FIXED_LIGHT ? 4 : 8;
+    mip3d_geometry(m, v);
+    for (int n = 0; n < m->levels; n++) {
+        mip3d_level_t *L = &m->level[n];
+        size_t voxels, floats;
+        if (!pp5_mul3_size((size_t)L->nx, (size_t)L->ny, (size_t)L->nz, &voxels) ||
+            !pp5_mul_size(voxels, (size_t)m->stride * sizeof(float), &floats)) {
+            mip3d_free(m);
+            return pp5_fail(PP5_E_NOMEM, "mip3d: level %d too large", n);
+        }
+        L->data = malloc(floats);
+        if (!L->data) {
+            mip3d_free(m);
+            return pp5_fail(PP5_E_NOMEM, "mip3d: cannot allocate %zu bytes for level %d",
+                            floats, n);
+        }
+        m->bytes += floats;
     }
     mip3d_job_t job = {m, v, tf, shade, 0};
     pp5_status_t st = parallel_for(threads, v->nz, mip3d_base_slice, &job);

@@ -55,6 +55,10 @@ typedef struct {
 pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
                          const shade_params_t *shade, int threads);
 void mip3d_free(mip3d_t *m);
+/* The pyramid's shape without its data: spacing (smallest axis = 1; absent or
+ * non-finite spacings count as 1), levels down to 1x1x1, each level's dims.
+ * mip3d_build uses it; so does the machine's host, which must agree. */
+void mip3d_geometry(mip3d_t *m, const volume_t *v);
 
 /* Level-n coordinate of a level-0 voxel coordinate p: (p + 0.5) / 2^n - 0.5. */
 static inline float mip3d_level_coord(float p, int n)

@@ -81,3 +81,16 @@ pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s)
         return st;
     return classify_preset(preset, &s->tf);
 }
+
+pp5_status_t scene_paper_volume(const scene_t *s, volume_t *out)
+{
+    const volume_t *v = &s->volume;
+    pp5_status_t st = volume_resample(v, SCENE_PAPER_NX, SCENE_PAPER_NY, SCENE_PAPER_NZ, out);
+    if (st != PP5_OK)
+        return st;
+    const int n_in[3] = {v->nx, v->ny, v->nz}, n_out[3] = {SCENE_PAPER_NX, SCENE_PAPER_NY,
+                                                           SCENE_PAPER_NZ};
+    for (int a = 0; a < 3; a++)
+        out->spacing[a] = v->spacing[a] * n_in[a] / n_out[a];
+    return PP5_OK;
+}

@@ -25,6 +25,14 @@ const char *scene_data_root(void);
  * yields the 256x256x109 Shepp-Logan phantom and fell_back = true. */
 pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s);
 void scene_free(scene_t *s);
+/* The paper's Pixel-Planes 5 workload size (seed 004 §6: 128x128x109). */
+#define SCENE_PAPER_NX 128
+#define SCENE_PAPER_NY 128
+#define SCENE_PAPER_NZ 109
+/* The scene's volume resampled (trilinearly) to the paper's size, keeping
+ * the object's shape: each axis's spacing grows by n_in / n_out.  Used by
+ * every machine study (projections, sweep, replay, benchmarks). */
+pp5_status_t scene_paper_volume(const scene_t *s, volume_t *out);
 /* Preset and view for an arbitrary loaded volume (guessed from its range). */
 void scene_guess_tf(const volume_t *v, classify_tf_t *tf);
 

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "firmware/common/vr_gp.h"
+#include "firmware/host/fw_reference.h"
 #include "firmware/host/fw_session.h"
 #include "harness.h"
 #include "render/quality.h"
@@ -38,6 +38,11 @@ static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
     f->p.n_renderers = 4;
 }
 
+/* The fixture as a render job (the settings as they are now). */
+#define JOB(f)                                                                                 \
+    (&(render_job_t){.volume = &(f).v, .volume_name = "phantom", .tf = (f).tf,                \
+                     .shade = (f).shade, .settings = (f).rs, .frames = 1})
+
 static double psnr(const image8_t *a, const image8_t *b)
 {
     double se = 0;
@@ -71,12 +76,12 @@ static void check_against_native_view(shade_case_t lighting, render_mode_t mode,
     fw_options_default(&o);
     o.split = split;
     fw_session_t s;
-    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    pp5_status_t st = fw_session_init(&s, JOB(f), &f.p, &o);
     REQUIRE_MSG(st == PP5_OK, "session: %s", pp5_error_text());
     native_renderer_t exact, quant, flt;
     REQUIRE(native_renderer_init(&exact, &f.v, &f.tf, &f.shade, 1) == PP5_OK);
-    REQUIRE(fw_reference_init(&quant, &f.v, &f.tf, &f.shade, &f.rs, true) == PP5_OK);
-    REQUIRE(fw_reference_init(&flt, &f.v, &f.tf, &f.shade, &f.rs, false) == PP5_OK);
+    REQUIRE(fw_reference_init(&quant, JOB(f), true) == PP5_OK);
+    REQUIRE(fw_reference_init(&flt, JOB(f), false) == PP5_OK);
     const double gazes[3][2] = {{31.5, 31.5}, {10.0, 50.0}, {55.0, 8.0}};
     for (int k = 0; k < (mode == RENDER_MODE_GAZE ? 3 : 1); k++) {
         image8_t img = {0}, re = {0}, rq = {0}, rf = {0};
@@ -152,7 +157,7 @@ TEST(fw_split_pp_and_gp_give_identical_images)
         fw_options_default(&o);
         o.split = k == 0 ? VR_SPLIT_PP : VR_SPLIT_GP;
         fw_session_t s;
-        REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+        REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
         REQUIRE(fw_session_frame(&s, 20.0, 30.0, &img[k], &r[k]) == PP5_OK);
         fw_session_free(&s);
         volume_free(&f.v);
@@ -173,7 +178,7 @@ TEST(fw_ring_conservation_per_class)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
     fw_frame_result_t r;
     REQUIRE(fw_session_frame(&s, 31.5, 31.5, NULL, &r) == PP5_OK);
     REQUIRE(fw_session_frame(&s, 5.0, 5.0, NULL, &r) == PP5_OK);
@@ -197,7 +202,7 @@ TEST(fw_gp_memory_limit_is_a_firmware_error)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    pp5_status_t st = fw_session_init(&s, JOB(f), &f.p, &o);
     if (st == PP5_OK) {
         fw_frame_result_t r;
         st = fw_session_frame(&s, 31.5, 31.5, NULL, &r);
@@ -217,7 +222,7 @@ static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
     fw_frame_result_t r;
     image8_t img = {0};
     REQUIRE(fw_session_frame(&s, 31.5, 31.5, &img, &r) == PP5_OK);
@@ -234,11 +239,9 @@ static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles)
     image8_free(&ref);
     native_renderer_free(&nr);
     *max_cast_cycles = 0;
-    for (unsigned g = 0; g < s.m.n_gp; g++) {
-        const vr_probe_t *p = vr_probe(s.m.gp[g].state);
-        if (p && p->cyc_cast > *max_cast_cycles)
-            *max_cast_cycles = p->cyc_cast;
-    }
+    for (unsigned g = 0; g < s.m.n_gp; g++)
+        if (s.last_gp[g].cycles_cast > *max_cast_cycles)
+            *max_cast_cycles = s.last_gp[g].cycles_cast;
     fw_session_free(&s);
     volume_free(&f.v);
     return r.frame_time_s;
@@ -278,7 +281,7 @@ TEST(fw_runs_are_deterministic)
         fw_options_t o;
         fw_options_default(&o);
         fw_session_t s;
-        REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+        REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
         REQUIRE(fw_session_frame(&s, 12.0, 40.0, &img[k], &r[k]) == PP5_OK);
         for (unsigned g = 0; g < s.m.n_gp; g++)
             cycles[k] += s.m.gp[g].busy_cycles;
@@ -304,7 +307,7 @@ TEST(fw_backing_store_limit_is_reported)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+    pp5_status_t st = fw_session_init(&s, JOB(f), &f.p, &o);
     CHECK_EQ(st, PP5_E_FIRMWARE);
     CHECK(strstr(pp5_error_text(), "backing-store") != NULL);
     fw_session_free(&s);
@@ -323,9 +326,9 @@ TEST(fw_progressive_refinement_matches_native)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
     native_renderer_t quant;
-    REQUIRE(fw_reference_init(&quant, &f.v, &f.tf, &f.shade, &f.rs, true) == PP5_OK);
+    REQUIRE(fw_reference_init(&quant, JOB(f), true) == PP5_OK);
     render_settings_t ns = f.rs;
     ns.gaze_x = 20.0;
     ns.gaze_y = 25.0;
@@ -363,7 +366,7 @@ TEST(fw_replay_callback_runs_frames)
     fw_options_t o;
     fw_options_default(&o);
     fw_session_t s;
-    REQUIRE(fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o) == PP5_OK);
+    REQUIRE(fw_session_init(&s, JOB(f), &f.p, &o) == PP5_OK);
     double setup = s.setup_s;
     native_renderer_t nr;
     REQUIRE(native_renderer_init(&nr, &f.v, &f.tf, &f.shade, 1) == PP5_OK);
@@ -405,7 +408,7 @@ TEST(fw_passes_do_not_change_the_image)
         volume_free(&f.v);
         REQUIRE(phantom_make("shepp-logan", 96, 96, 48, &f.v) == PP5_OK);
         native_renderer_t quant;
-        REQUIRE(fw_reference_init(&quant, &f.v, &f.tf, &f.shade, &f.rs, true) == PP5_OK);
+        REQUIRE(fw_reference_init(&quant, JOB(f), true) == PP5_OK);
         image8_t rq = {0};
         render_stats_t sq;
         render_settings_t ns = f.rs;
@@ -420,7 +423,7 @@ TEST(fw_passes_do_not_change_the_image)
             fw_options_default(&o);
             o.max_pass_bricks = cap;
             fw_session_t s;
-            pp5_status_t st = fw_session_init(&s, &f.v, &f.tf, &f.shade, &f.rs, &f.p, &o);
+            pp5_status_t st = fw_session_init(&s, JOB(f), &f.p, &o);
             fw_frame_result_t r;
             image8_t img = {0};
             if (st == PP5_OK)

@@ -442,3 +442,43 @@ TEST(machine_threaded_firmware_error_stops_cleanly)
     CHECK(!m.pool_running);
     machine_free(&m);
 }
+
+/* The statistics registry against the units it reads: a difference of two
+ * snapshots around a frame equals the machine's own record of that frame
+ * (ring bytes by class, counted by the ring as it sends), and the renderers'
+ * per-class cycles reach the registry under their names. */
+TEST(machine_stats_snapshots_and_differences_match_the_frame_record)
+{
+    pp5_params_t p;
+    small_params(&p);
+    machine_t m;
+    sched_stop_t why;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_all(&m, &testpattern_program) == PP5_OK);
+    REQUIRE(machine_run_setup(&m, &why) == PP5_OK);
+    stats_t before, after, d;
+    REQUIRE(stats_collect(&before, &m) == PP5_OK);
+    REQUIRE(machine_run_frame(&m, &why) == PP5_OK);
+    REQUIRE(stats_collect(&after, &m) == PP5_OK);
+    REQUIRE(stats_diff(&d, &before, &after) == PP5_OK);
+    for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
+        double sent = stats_valuef(&d, "ring.by_class.%s.bytes_sent", stats_class_name(k));
+        CHECK_MSG(sent == (double)m.frames[0].bytes_by_class[k], "class %s: %.0f vs %llu",
+                  stats_class_name(k), sent, (unsigned long long)m.frames[0].bytes_by_class[k]);
+    }
+    CHECK(stats_value(&d, "ring.by_class.pixels.bytes_sent") > 0);
+    CHECK_EQ(stats_value(&d, "sim.frames"), 1);
+    /* A formula describes the whole run: it is not in a difference. */
+    CHECK(stats_find(&d, "ring.utilization") == NULL);
+    CHECK(stats_find(&after, "ring.utilization") != NULL);
+    for (unsigned r = 0; r < m.n_rn; r++) {
+        double qee = stats_valuef(&after, "renderer.%u.pp.cycles_by_class.qee", r);
+        CHECK(qee > 0);
+        CHECK_EQ(qee, m.rn[r].r.stats.class_cycles[PP_CLASS_QEE]);
+    }
+    CHECK(stats_value(&after, "no.such.statistic") == 0.0 && !stats_find(&after, "no.such"));
+    stats_free(&before);
+    stats_free(&after);
+    stats_free(&d);
+    machine_free(&m);
+}

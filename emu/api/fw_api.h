@@ -101,6 +101,22 @@ fw_status_t fw_send(gp_t *gp, ring_addr_t dst, uint32_t kind,
                     const uint32_t args[RING_MSG_ARGS],
                     const void *payload, size_t payload_bytes);
 
+/* Named statistics.  A program publishes what it counts (rays, cycles per
+ * phase, the times its phases ended) as named statistics of its GP; the host
+ * and the reports read them from emu's statistics registry (emu/stats.h:
+ * "gp.G.prog.NAME"), never from the program's memory.  fw_stat_declare
+ * returns the handle of NAME (declaring it the first time; at most
+ * FW_MAX_STATS per GP, names up to 31 characters); fw_stat_add adds to a
+ * counter, fw_stat_set stores a value such as an emulated time.  Publishing is
+ * bookkeeping of the emulation: it costs the GP no cycles. */
+#define FW_MAX_STATS 64
+typedef int fw_stat_t;
+typedef enum { FW_STAT_COUNTER, FW_STAT_VALUE } fw_stat_kind_t;
+fw_stat_t fw_stat_declare(gp_t *gp, const char *name, fw_stat_kind_t kind, const char *unit,
+                          const char *meaning);
+void fw_stat_add(gp_t *gp, fw_stat_t id, uint64_t n);
+void fw_stat_set(gp_t *gp, fw_stat_t id, uint64_t value);
+
 /* Record a firmware error (printf-style) and return FW_ERROR. */
 fw_status_t fw_fail(gp_t *gp, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

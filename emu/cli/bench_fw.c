@@ -37,7 +37,9 @@ static int bench_case(const volume_t *v, const classify_tf_t *tf, const float ro
     fw_options_default(&o);
     fw_session_t s;
     double t0 = now_s();
-    pp5_status_t st = fw_session_init(&s, v, tf, &sh, &rs, &p, &o);
+    render_job_t job = {.volume = v, .volume_name = v->source, .tf = *tf, .shade = sh,
+                        .settings = rs, .frames = 1};
+    pp5_status_t st = fw_session_init(&s, &job, &p, &o);
     double t_setup = now_s() - t0;
     if (st != PP5_OK) {
         printf("   machine setup failed: %s\n", pp5_error_text());
@@ -99,14 +101,11 @@ static int bench_fw_frame(const pp5_bench_opts_t *opts)
         return 1;
     }
     volume_t v;
-    st = volume_resample(&sc.volume, 128, 128, 109, &v);
+    st = scene_paper_volume(&sc, &v);
     if (st != PP5_OK) {
         scene_free(&sc);
         return 1;
     }
-    v.spacing[0] = sc.volume.spacing[0];
-    v.spacing[1] = sc.volume.spacing[1];
-    v.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
     printf("   volume %s resampled to 128x128x109 (the projection scenario), 16 GPs, 16 renderers\n",
            sc.volume.source);
     float rot[3] = {sc.rot_x_deg, sc.rot_y_deg, sc.rot_z_deg};

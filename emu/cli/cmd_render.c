@@ -1,6 +1,4 @@
-/* cmd_render.c: `pp5 render`, one frame (or a progressive sequence) of the
- * native gaze-directed volume renderer, with its PNG, figure 5, figure 6 and
- * JSON report. */
+/* cmd_render.c: `pp5 render`: the options of one frame (or a sequence) of the gaze-directed volume renderer, natively or on the emulated machine. */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -8,19 +6,15 @@
 
 #include "cliopt.h"
 #include "registry.h"
-#include "render/render_cli.h"
-#include "render/renderer_native.h"
-#include "render/scene.h"
-/* --- firmware hook (firmware/host/fw_render.h): `pp5 render --machine` --- */
-#include "firmware/host/fw_render.h"
-/* --- end firmware hook --- */
+#include "render_cmd.h"
 
 static void render_usage(void)
 {
     printf("usage: pp5 render [options]\n\n"
-           "Renders one frame with the native gaze-directed volume renderer (Levoy &\n"
-           "Whitaker 1990): a 3D mip map with octree skipping, rays cast into a\n"
-           "partially populated 2D mip map whose level follows retinal acuity.\n\n"
+           "Renders one frame with the gaze-directed volume renderer (Levoy & Whitaker\n"
+           "1990): a 3D mip map with octree skipping, rays cast into a partially populated\n"
+           "2D mip map whose level follows retinal acuity.  Natively by default; with\n"
+           "--machine on the emulated Pixel-Planes 5, with its frame time and ring traffic.\n\n"
            "Input (one of):\n"
            "  --phantom NAME        procedural volume: %s (default shepp-logan)\n"
            "  --dataset NAME        mrbrain | cthead from the shared data (../shared/data\n"
@@ -60,8 +54,23 @@ static void render_usage(void)
            "                        error in the report and on stdout\n"
            "  --mip-levels-out P    the populated 2D mip-map levels as P<level>.png (fig. 6)\n"
            "  --fig5 FILE.png       sweet-spot structure plot (fig. 5)\n"
-           "  --threads N           host threads (0 = all; output is identical for any N)\n",
-           phantom_names(), classify_preset_names());
+           "  --threads N           host threads (0 = all; output is identical for any N)\n"
+           "Machine (emulated Pixel-Planes 5, firmware/):\n"
+           "  --machine             render on the emulated machine (GPs + renderers + ring);\n"
+           "                        prints the emulated frame time and compares the image\n"
+           "                        with the native renderer on the same inputs\n"
+           "  --division NAME       work division: image-bands (default), resident,\n"
+           "                        object-slabs (firmware/ARCHITECTURE.md)\n"
+           "  --split pp|gp         where viewpoint-dependent shading runs (pp: the paper)\n"
+           "  --frames N            N frames with the gaze moving (setup reused)\n"
+           "  --timeline FILE.json  Chrome trace of the emulated frame (ui.perfetto.dev)\n"
+           "%s"
+           "                        (--set also takes the firmware's division=, split=,\n"
+           "                        plan=rays|samples and level_tables=0|1)\n\n"
+           "Examples:\n"
+           "  pp5 render --phantom shepp-logan --mode gaze --gaze 300,200 --out g.png\n"
+           "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n",
+           phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
 }
 
 enum {
@@ -70,8 +79,62 @@ enum {
     OPT_ROTY, OPT_ROTZ, OPT_ZOOM, OPT_PROJECTION, OPT_EYE, OPT_STEP, OPT_EARLY, OPT_NO_OCTREE,
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
-    OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA
+    OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_MACHINE, OPT_DIVISION, OPT_SPLIT, OPT_FRAMES,
+    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET
 };
+
+static const struct option longopts[] = {
+    {"phantom", required_argument, NULL, OPT_PHANTOM},
+    {"dataset", required_argument, NULL, OPT_DATASET},
+    {"volume", required_argument, NULL, OPT_VOLUME},
+    {"raw-dims", required_argument, NULL, OPT_RAW_DIMS},
+    {"raw-type", required_argument, NULL, OPT_RAW_TYPE},
+    {"big-endian", no_argument, NULL, OPT_BIG_ENDIAN},
+    {"spacing", required_argument, NULL, OPT_SPACING},
+    {"header-bytes", required_argument, NULL, OPT_HEADER_BYTES},
+    {"tf", required_argument, NULL, OPT_TF},
+    {"lighting", required_argument, NULL, OPT_LIGHTING},
+    {"specular", required_argument, NULL, OPT_SPECULAR},
+    {"size", required_argument, NULL, OPT_SIZE},
+    {"rot-x", required_argument, NULL, OPT_ROTX},
+    {"rot-y", required_argument, NULL, OPT_ROTY},
+    {"rot-z", required_argument, NULL, OPT_ROTZ},
+    {"zoom", required_argument, NULL, OPT_ZOOM},
+    {"projection", required_argument, NULL, OPT_PROJECTION},
+    {"eye-distance", required_argument, NULL, OPT_EYE},
+    {"step", required_argument, NULL, OPT_STEP},
+    {"early-termination", required_argument, NULL, OPT_EARLY},
+    {"no-octree", no_argument, NULL, OPT_NO_OCTREE},
+    {"mode", required_argument, NULL, OPT_MODE},
+    {"gaze", required_argument, NULL, OPT_GAZE},
+    {"monitor-diag", required_argument, NULL, OPT_MONITOR},
+    {"view-distance", required_argument, NULL, OPT_DISTANCE},
+    {"subtense", required_argument, NULL, OPT_SUBTENSE},
+    {"progressive", required_argument, NULL, OPT_PROGRESSIVE},
+    {"sweet-spot-deg", required_argument, NULL, OPT_SWEET},
+    {"periphery-deg", required_argument, NULL, OPT_PERIPHERY},
+    {"periphery-pixels", required_argument, NULL, OPT_PERIPHERY_PX},
+    {"sigma-deg", required_argument, NULL, OPT_SIGMA},
+    {"out", required_argument, NULL, OPT_OUT},
+    {"report", required_argument, NULL, OPT_REPORT},
+    {"compare", no_argument, NULL, OPT_COMPARE},
+    {"mip-levels-out", required_argument, NULL, OPT_LEVELS_OUT},
+    {"fig5", required_argument, NULL, OPT_FIG5},
+    {"threads", required_argument, NULL, OPT_THREADS},
+    {"machine", no_argument, NULL, OPT_MACHINE},
+    {"division", required_argument, NULL, OPT_DIVISION},
+    {"split", required_argument, NULL, OPT_SPLIT},
+    {"frames", required_argument, NULL, OPT_FRAMES},
+    {"timeline", required_argument, NULL, OPT_TIMELINE},
+    {"preset", required_argument, NULL, OPT_PRESET},
+    {"config", required_argument, NULL, OPT_CONFIG},
+    {"set", required_argument, NULL, OPT_SET},
+    {"help", no_argument, NULL, OPT_HELP},
+    {NULL, 0, NULL, 0},
+};
+
+/* An option not of this group: the caller tries the next group. */
+#define NOT_MINE ((pp5_status_t)-1000)
 
 static pp5_status_t parse_dims3(const char *opt, const char *text, volume_raw_spec_t *spec)
 {
@@ -97,181 +160,240 @@ static pp5_status_t parse_spacing(const char *opt, const char *text, double sp[3
     return PP5_OK;
 }
 
-static int render_main(int argc, char **argv)
+/* Picks names[i] == text; an error lists the choices. */
+static pp5_status_t one_of(const char *opt, const char *text, const char *const *names, int n,
+                           int *out)
 {
-    render_cli_t cli;
-    render_cli_defaults(&cli);
-    static const struct option longopts[] = {
-        {"phantom", required_argument, NULL, OPT_PHANTOM},
-        {"dataset", required_argument, NULL, OPT_DATASET},
-        {"volume", required_argument, NULL, OPT_VOLUME},
-        {"raw-dims", required_argument, NULL, OPT_RAW_DIMS},
-        {"raw-type", required_argument, NULL, OPT_RAW_TYPE},
-        {"big-endian", no_argument, NULL, OPT_BIG_ENDIAN},
-        {"spacing", required_argument, NULL, OPT_SPACING},
-        {"header-bytes", required_argument, NULL, OPT_HEADER_BYTES},
-        {"tf", required_argument, NULL, OPT_TF},
-        {"lighting", required_argument, NULL, OPT_LIGHTING},
-        {"specular", required_argument, NULL, OPT_SPECULAR},
-        {"size", required_argument, NULL, OPT_SIZE},
-        {"rot-x", required_argument, NULL, OPT_ROTX},
-        {"rot-y", required_argument, NULL, OPT_ROTY},
-        {"rot-z", required_argument, NULL, OPT_ROTZ},
-        {"zoom", required_argument, NULL, OPT_ZOOM},
-        {"projection", required_argument, NULL, OPT_PROJECTION},
-        {"eye-distance", required_argument, NULL, OPT_EYE},
-        {"step", required_argument, NULL, OPT_STEP},
-        {"early-termination", required_argument, NULL, OPT_EARLY},
-        {"no-octree", no_argument, NULL, OPT_NO_OCTREE},
-        {"mode", required_argument, NULL, OPT_MODE},
-        {"gaze", required_argument, NULL, OPT_GAZE},
-        {"monitor-diag", required_argument, NULL, OPT_MONITOR},
-        {"view-distance", required_argument, NULL, OPT_DISTANCE},
-        {"subtense", required_argument, NULL, OPT_SUBTENSE},
-        {"progressive", required_argument, NULL, OPT_PROGRESSIVE},
-        {"sweet-spot-deg", required_argument, NULL, OPT_SWEET},
-        {"periphery-deg", required_argument, NULL, OPT_PERIPHERY},
-        {"periphery-pixels", required_argument, NULL, OPT_PERIPHERY_PX},
-        {"sigma-deg", required_argument, NULL, OPT_SIGMA},
-        {"out", required_argument, NULL, OPT_OUT},
-        {"report", required_argument, NULL, OPT_REPORT},
-        {"compare", no_argument, NULL, OPT_COMPARE},
-        {"mip-levels-out", required_argument, NULL, OPT_LEVELS_OUT},
-        {"fig5", required_argument, NULL, OPT_FIG5},
-        {"threads", required_argument, NULL, OPT_THREADS},
-        {"help", no_argument, NULL, OPT_HELP},
-        {NULL, 0, NULL, 0},
-    };
+    for (int i = 0; i < n; i++)
+        if (strcmp(text, names[i]) == 0) {
+            *out = i;
+            return PP5_OK;
+        }
+    return pp5_fail(PP5_E_CONFIG, "%s: expected %s%s%s, got '%s'", opt, names[0],
+                    n > 2 ? ", " : " or ", n > 2 ? "..." : names[1], text);
+}
+
+static pp5_status_t parse_input(render_cmd_t *c, int opt, const char *a)
+{
+    render_input_t *in = &c->input;
+    long l;
     pp5_status_t st = PP5_OK;
+    switch (opt) {
+    case OPT_PHANTOM: in->kind = RENDER_INPUT_PHANTOM; in->name = a; break;
+    case OPT_DATASET: in->kind = RENDER_INPUT_DATASET; in->name = a; break;
+    case OPT_VOLUME: in->kind = RENDER_INPUT_FILE; in->name = a; break;
+    case OPT_RAW_DIMS: st = parse_dims3("--raw-dims", a, &in->raw); in->have_raw = true; break;
+    case OPT_RAW_TYPE: st = voxel_type_parse(a, &in->raw.type); in->have_raw = true; break;
+    case OPT_BIG_ENDIAN: in->raw.big_endian = true; break;
+    case OPT_SPACING: st = parse_spacing("--spacing", a, in->raw.spacing); in->have_spacing = true;
+        break;
+    case OPT_HEADER_BYTES:
+        st = cliopt_long("--header-bytes", a, 0, 1L << 40, &l);
+        in->raw.header_bytes = (uint64_t)l;
+        break;
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
+static pp5_status_t parse_shading(render_cmd_t *c, int opt, const char *a)
+{
+    static const char *const lightings[] = {"diffuse", "specular", "moving"};
+    static const shade_case_t cases[] = {SHADE_DIFFUSE_FIXED_LIGHT, SHADE_SPECULAR_FIXED_LIGHT,
+                                         SHADE_MOVING_OBJECT};
+    render_choices_t *ch = &c->choices;
+    double d;
+    int i = 0;
+    pp5_status_t st = PP5_OK;
+    switch (opt) {
+    case OPT_TF: st = classify_preset(a, &ch->tf); ch->have_tf = true; break;
+    case OPT_LIGHTING:
+        if ((st = one_of("--lighting", a, lightings, 3, &i)) == PP5_OK)
+            ch->shade.lighting = cases[i];
+        break;
+    case OPT_SPECULAR: st = cliopt_double("--specular", a, 0.0, 10.0, &d);
+        ch->shade.specular = (float)d; break;
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
+static pp5_status_t parse_view(render_cmd_t *c, int opt, const char *a)
+{
+    static const char *const projections[] = {"parallel", "perspective"};
+    render_settings_t *s = &c->choices.settings;
+    view_params_t *v = &s->view;
+    double d;
+    int i = 0;
+    pp5_status_t st = PP5_OK;
+    switch (opt) {
+    case OPT_SIZE: st = cliopt_size2("--size", a, 1, 8192, &s->width, &s->height); break;
+    case OPT_ROTX: st = cliopt_double("--rot-x", a, -3600, 3600, &d); v->rot_x_deg = (float)d;
+        c->choices.have_rot = true; break;
+    case OPT_ROTY: st = cliopt_double("--rot-y", a, -3600, 3600, &d); v->rot_y_deg = (float)d;
+        c->choices.have_rot = true; break;
+    case OPT_ROTZ: st = cliopt_double("--rot-z", a, -3600, 3600, &d); v->rot_z_deg = (float)d;
+        c->choices.have_rot = true; break;
+    case OPT_ZOOM: st = cliopt_double("--zoom", a, 0.01, 100, &d); v->zoom = (float)d; break;
+    case OPT_PROJECTION:
+        if ((st = one_of("--projection", a, projections, 2, &i)) == PP5_OK)
+            v->projection = i == 0 ? PROJECTION_PARALLEL : PROJECTION_PERSPECTIVE;
+        break;
+    case OPT_EYE: st = cliopt_double("--eye-distance", a, 1.05, 1000, &d);
+        v->eye_distance = (float)d; break;
+    case OPT_STEP: st = cliopt_double("--step", a, 0.05, 64, &d); v->sample_step = (float)d; break;
+    case OPT_EARLY: st = cliopt_double("--early-termination", a, 0.01, 1, &d);
+        v->early_termination = (float)d; break;
+    case OPT_NO_OCTREE: v->use_octree = false; break;
+    case OPT_THREADS: {
+        long l;
+        st = cliopt_long("--threads", a, 0, 64, &l);
+        s->threads = (int)l;
+        break;
+    }
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
+static pp5_status_t parse_gaze(render_cmd_t *c, int opt, const char *a)
+{
+    static const char *const modes[] = {"full", "gaze"};
+    render_settings_t *s = &c->choices.settings;
+    gaze_display_t *g = &s->display;
     double d, x, y;
     long l;
-    int c;
-    /* --- firmware hook: machine-only options are taken out before parsing --- */
-    fw_render_opts_t fw_opts;
-    argc = fw_render_filter_args(argc, argv, &fw_opts, &st);
+    int i = 0;
+    pp5_status_t st = PP5_OK;
+    switch (opt) {
+    case OPT_MODE:
+        if ((st = one_of("--mode", a, modes, 2, &i)) == PP5_OK)
+            s->mode = i == 0 ? RENDER_MODE_FULL : RENDER_MODE_GAZE;
+        break;
+    case OPT_GAZE:
+        st = cliopt_pair("--gaze", a, &x, &y);
+        s->gaze_x = x;
+        s->gaze_y = y;
+        c->choices.have_gaze = true;
+        break;
+    case OPT_MONITOR: st = cliopt_double("--monitor-diag", a, 1, 1000, &g->monitor_diag_in); break;
+    case OPT_DISTANCE: st = cliopt_double("--view-distance", a, 1, 10000, &g->view_distance_in); break;
+    case OPT_SUBTENSE: st = cliopt_double("--subtense", a, 0, 160, &g->image_subtense_deg); break;
+    case OPT_SWEET: st = cliopt_double("--sweet-spot-deg", a, 0.1, 160, &g->full_res_diameter_deg);
+        break;
+    case OPT_PERIPHERY: st = cliopt_double("--periphery-deg", a, 0.1, 160,
+                                           &g->periphery_diameter_deg); break;
+    case OPT_PERIPHERY_PX:
+        st = cliopt_double("--periphery-pixels", a, 4, 65536, &d);
+        g->periphery_rays_per_px = 1.0 / d;
+        break;
+    case OPT_SIGMA: st = cliopt_double("--sigma-deg", a, 0.01, 90, &g->sigma_deg); break;
+    case OPT_PROGRESSIVE: st = cliopt_long("--progressive", a, 1, 64, &l);
+        c->choices.progressive_frames = (int)l; break;
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
+static pp5_status_t parse_output(render_cmd_t *c, int opt, const char *a)
+{
+    switch (opt) {
+    case OPT_OUT: c->out_png = a; break;
+    case OPT_REPORT: c->report_json = a; break;
+    case OPT_COMPARE: c->compare = true; break;
+    case OPT_LEVELS_OUT: c->levels_prefix = a; break;
+    case OPT_FIG5: c->fig5_png = a; break;
+    default: return NOT_MINE;
+    }
+    return PP5_OK;
+}
+
+static pp5_status_t parse_machine(render_cmd_t *c, int opt, const char *a)
+{
+    long l;
+    bool taken = false;
+    pp5_status_t st = PP5_OK;
+    char kv[96];
+    switch (opt) {
+    case OPT_MACHINE: c->machine = true; break;
+    case OPT_DIVISION:
+    case OPT_SPLIT:
+        snprintf(kv, sizeof kv, "%s=%s", opt == OPT_DIVISION ? "division" : "split", a);
+        st = fw_options_set(&c->fw, kv, &taken);
+        break;
+    case OPT_FRAMES: st = cliopt_long("--frames", a, 1, 100000, &l); c->frames = (int)l; break;
+    case OPT_TIMELINE: c->timeline = a; break;
+    case OPT_PRESET: c->params.preset = a; break;
+    case OPT_CONFIG: c->params.config = a; break;
+    case OPT_SET:
+        st = fw_options_set(&c->fw, a, &taken);
+        if (st == PP5_OK && !taken)
+            st = pp5_params_cli_add_set(&c->params, a);
+        break;
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
+void render_cmd_defaults(render_cmd_t *c)
+{
+    memset(c, 0, sizeof *c);
+    render_input_default(&c->input);
+    render_choices_default(&c->choices);
+    fw_options_default(&c->fw);
+    c->frames = 1;
+}
+
+static pp5_status_t parse_option(render_cmd_t *c, int opt, const char *arg)
+{
+    pp5_status_t (*const groups[])(render_cmd_t *, int, const char *) = {
+        parse_input, parse_shading, parse_view, parse_gaze, parse_output, parse_machine,
+    };
+    for (size_t i = 0; i < sizeof groups / sizeof groups[0]; i++) {
+        pp5_status_t st = groups[i](c, opt, arg);
+        if (st != NOT_MINE)
+            return st;
+    }
+    return pp5_fail(PP5_E_CONFIG, "unknown option (see --help)");
+}
+
+static pp5_status_t render_run(render_cmd_t *c)
+{
+    scene_t sc;
+    pp5_status_t st = render_input_load(&c->input, &sc, stdout);
     if (st != PP5_OK)
-        return cliopt_report("render", st);
-    /* --- end firmware hook --- */
+        return st;
+    render_job_t job;
+    st = render_job_resolve(&job, &sc, &c->choices);
+    if (st == PP5_OK)
+        st = c->machine ? render_machine_run(c, &job, stdout) : render_native_run(c, &job, &sc, stdout);
+    scene_free(&sc);
+    return st;
+}
+
+static int render_main(int argc, char **argv)
+{
+    render_cmd_t c;
+    render_cmd_defaults(&c);
+    pp5_status_t st = PP5_OK;
+    int opt;
     optind = 1;
     opterr = 1;
-    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
-        switch (c) {
-        case OPT_PHANTOM: cli.input = RENDER_INPUT_PHANTOM; cli.input_name = optarg; break;
-        case OPT_DATASET: cli.input = RENDER_INPUT_DATASET; cli.input_name = optarg; break;
-        case OPT_VOLUME: cli.input = RENDER_INPUT_FILE; cli.input_name = optarg; break;
-        case OPT_RAW_DIMS: st = parse_dims3("--raw-dims", optarg, &cli.raw); cli.have_raw = true;
-            break;
-        case OPT_RAW_TYPE: st = voxel_type_parse(optarg, &cli.raw.type); cli.have_raw = true;
-            break;
-        case OPT_BIG_ENDIAN: cli.raw.big_endian = true; break;
-        case OPT_SPACING: st = parse_spacing("--spacing", optarg, cli.raw.spacing);
-            cli.have_spacing = true; break;
-        case OPT_HEADER_BYTES:
-            st = cliopt_long("--header-bytes", optarg, 0, 1L << 40, &l);
-            cli.raw.header_bytes = (uint64_t)l;
-            break;
-        case OPT_TF: st = classify_preset(optarg, &cli.tf); cli.have_tf = true; break;
-        case OPT_LIGHTING:
-            if (strcmp(optarg, "diffuse") == 0)
-                cli.shade.lighting = SHADE_DIFFUSE_FIXED_LIGHT;
-            else if (strcmp(optarg, "specular") == 0)
-                cli.shade.lighting = SHADE_SPECULAR_FIXED_LIGHT;
-            else if (strcmp(optarg, "moving") == 0)
-                cli.shade.lighting = SHADE_MOVING_OBJECT;
-            else
-                st = pp5_fail(PP5_E_CONFIG, "--lighting: expected diffuse, specular or moving, "
-                              "got '%s'", optarg);
-            break;
-        case OPT_SPECULAR:
-            st = cliopt_double("--specular", optarg, 0.0, 10.0, &d);
-            cli.shade.specular = (float)d;
-            break;
-        case OPT_SIZE:
-            st = cliopt_size2("--size", optarg, 1, 8192, &cli.settings.width,
-                              &cli.settings.height);
-            break;
-        case OPT_ROTX: st = cliopt_double("--rot-x", optarg, -3600, 3600, &d);
-            cli.settings.view.rot_x_deg = (float)d; cli.have_rot = true; break;
-        case OPT_ROTY: st = cliopt_double("--rot-y", optarg, -3600, 3600, &d);
-            cli.settings.view.rot_y_deg = (float)d; cli.have_rot = true; break;
-        case OPT_ROTZ: st = cliopt_double("--rot-z", optarg, -3600, 3600, &d);
-            cli.settings.view.rot_z_deg = (float)d; cli.have_rot = true; break;
-        case OPT_ZOOM: st = cliopt_double("--zoom", optarg, 0.01, 100, &d);
-            cli.settings.view.zoom = (float)d; break;
-        case OPT_PROJECTION:
-            if (strcmp(optarg, "parallel") == 0)
-                cli.settings.view.projection = PROJECTION_PARALLEL;
-            else if (strcmp(optarg, "perspective") == 0)
-                cli.settings.view.projection = PROJECTION_PERSPECTIVE;
-            else
-                st = pp5_fail(PP5_E_CONFIG, "--projection: expected parallel or perspective, "
-                              "got '%s'", optarg);
-            break;
-        case OPT_EYE: st = cliopt_double("--eye-distance", optarg, 1.05, 1000, &d);
-            cli.settings.view.eye_distance = (float)d; break;
-        case OPT_STEP: st = cliopt_double("--step", optarg, 0.05, 64, &d);
-            cli.settings.view.sample_step = (float)d; break;
-        case OPT_EARLY: st = cliopt_double("--early-termination", optarg, 0.01, 1, &d);
-            cli.settings.view.early_termination = (float)d; break;
-        case OPT_NO_OCTREE: cli.settings.view.use_octree = false; break;
-        case OPT_MODE:
-            if (strcmp(optarg, "full") == 0)
-                cli.settings.mode = RENDER_MODE_FULL;
-            else if (strcmp(optarg, "gaze") == 0)
-                cli.settings.mode = RENDER_MODE_GAZE;
-            else
-                st = pp5_fail(PP5_E_CONFIG, "--mode: expected full or gaze, got '%s'", optarg);
-            break;
-        case OPT_GAZE:
-            st = cliopt_pair("--gaze", optarg, &x, &y);
-            cli.settings.gaze_x = x;
-            cli.settings.gaze_y = y;
-            cli.have_gaze = true;
-            break;
-        case OPT_MONITOR: st = cliopt_double("--monitor-diag", optarg, 1, 1000,
-                                             &cli.settings.display.monitor_diag_in); break;
-        case OPT_DISTANCE: st = cliopt_double("--view-distance", optarg, 1, 10000,
-                                              &cli.settings.display.view_distance_in); break;
-        case OPT_SUBTENSE: st = cliopt_double("--subtense", optarg, 0, 160,
-                                              &cli.settings.display.image_subtense_deg); break;
-        case OPT_SWEET: st = cliopt_double("--sweet-spot-deg", optarg, 0.1, 160,
-                                           &cli.settings.display.full_res_diameter_deg); break;
-        case OPT_PERIPHERY: st = cliopt_double("--periphery-deg", optarg, 0.1, 160,
-                                               &cli.settings.display.periphery_diameter_deg);
-            break;
-        case OPT_PERIPHERY_PX:
-            st = cliopt_double("--periphery-pixels", optarg, 4, 65536, &d);
-            cli.settings.display.periphery_rays_per_px = 1.0 / d;
-            break;
-        case OPT_SIGMA: st = cliopt_double("--sigma-deg", optarg, 0.01, 90,
-                                           &cli.settings.display.sigma_deg); break;
-        case OPT_PROGRESSIVE: st = cliopt_long("--progressive", optarg, 1, 64, &l);
-            cli.progressive_frames = (int)l; break;
-        case OPT_OUT: cli.out_png = optarg; break;
-        case OPT_REPORT: cli.report_json = optarg; break;
-        case OPT_COMPARE: cli.compare = true; break;
-        case OPT_LEVELS_OUT: cli.levels_prefix = optarg; break;
-        case OPT_FIG5: cli.fig5_png = optarg; break;
-        case OPT_THREADS: st = cliopt_long("--threads", optarg, 0, 64, &l);
-            cli.settings.threads = (int)l; break;
-        case OPT_HELP:
-        case 'h':
+    while (st == PP5_OK && (opt = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        if (opt == OPT_HELP || opt == 'h') {
             render_usage();
-            fputs(fw_render_help(), stdout); /* firmware hook */
             return 0;
-        default:
-            return 2;
         }
+        if (opt == '?')
+            return 2;
+        st = parse_option(&c, opt, optarg);
     }
     if (st == PP5_OK && optind < argc)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);
-    /* --- firmware hook --- */
-    if (st == PP5_OK && fw_opts.machine)
-        return (st = fw_render_cli_run(&cli, &fw_opts, stdout)) == PP5_OK ? 0 : cliopt_report("render", st);
-    /* --- end firmware hook --- */
     if (st == PP5_OK)
-        st = render_cli_run(&cli, stdout);
+        st = render_run(&c);
     return st == PP5_OK ? 0 : cliopt_report("render", st);
 }
 
-PP5_COMMAND(render, "render a frame with the native gaze-directed volume renderer", render_main)
+PP5_COMMAND(render, "render a frame natively or on the emulated machine (gaze-directed volume rendering)",
+            render_main)

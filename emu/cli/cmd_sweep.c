@@ -1,4 +1,4 @@
-/* cmd_sweep.c: `pp5 sweep`: work-division studies: the machine renderer over a grid of parameters, CSV and a stacked-by-phase plot of frame time. */
+/* cmd_sweep.c: `pp5 sweep`: work-division studies: the machine renderer over a grid of machine parameters and firmware settings, a CSV row per point and a stacked-by-phase plot of frame time. */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +21,15 @@ typedef struct {
     int n;
 } sweep_axis_t;
 
+typedef struct {
+    sweep_axis_t axes[SWEEP_MAX_KEYS];
+    int n_axes, points;
+    const char *out_csv, *out_png, *phantom, *dataset, *preset;
+    int w, h;
+    render_mode_t mode;
+    shade_case_t lighting;
+} sweep_t;
+
 static void sweep_usage(FILE *out)
 {
     fprintf(out,
@@ -29,12 +38,16 @@ static void sweep_usage(FILE *out)
             "                 [--lighting diffuse|specular] [--preset NAME]\n\n"
             "Runs one frame of the gaze-directed renderer on the emulated machine for every\n"
             "point of a grid of parameters and writes a CSV (frame time, its critical-path\n"
-            "phases, rays, samples, ring bytes and utilisation) and a PNG of frame time against\n"
-            "the grid, stacked by phase, so you see where the machine saturates.\n\n"
+            "phases, rays, samples, ring bytes, utilisation and GP imbalance) and a PNG of\n"
+            "frame time against the grid, stacked by phase, so you see where the machine\n"
+            "saturates and how the work divisions compare.\n\n"
             "  --set KEY=V1,V2,...  a machine parameter (see `pp5 machine`: gp.count,\n"
             "                       renderer.count, ring.channels, ring.clock_hz, gp.clock_hz,\n"
-            "                       renderer.clock_hz, ...) or split=pp,gp (where the\n"
-            "                       viewpoint-dependent shading runs); several --set make a grid\n"
+            "                       renderer.clock_hz, ...) or a firmware setting: division=\n"
+            "                       image-bands,resident,object-slabs; split=pp,gp (where the\n"
+            "                       viewpoint-dependent shading runs); plan=rays,samples (how\n"
+            "                       bands are balanced); level_tables=0,1 (2DLevel exact or by\n"
+            "                       the paper's tables).  Several --set make a grid\n"
             "                       (default: --set gp.count=1,2,4,8,16,32)\n"
             "  --out FILE.csv       (default sweep.csv)\n"
             "  --plot FILE.png      (default sweep.png)\n"
@@ -44,9 +57,12 @@ static void sweep_usage(FILE *out)
             "  --mode gaze|full     (default gaze, gaze at the image centre)\n"
             "  --lighting L         specular (default; ks 0.4: the PPs shade every frame) or diffuse\n"
             "  --preset NAME        machine preset (default, gaze1990-literal)\n"
-            "  --help               this text\n");
+            "  --help               this text\n\n"
+            "Example:\n"
+            "  pp5 sweep --set division=image-bands,resident,object-slabs --out d.csv --plot d.png\n");
 }
 
+/* KEY=V1,V2,... with every value checked now, not half-way through the grid. */
 static pp5_status_t parse_axis(const char *arg, sweep_axis_t *ax)
 {
     const char *eq = strchr(arg, '=');
@@ -54,36 +70,65 @@ static pp5_status_t parse_axis(const char *arg, sweep_axis_t *ax)
         return pp5_fail(PP5_E_CONFIG, "--set: expected KEY=V1,V2,..., got '%s'", arg);
     memset(ax, 0, sizeof *ax);
     memcpy(ax->key, arg, (size_t)(eq - arg));
-    const char *p = eq + 1;
-    while (*p) {
+    for (const char *p = eq + 1; *p;) {
         const char *c = strchr(p, ',');
         size_t len = c ? (size_t)(c - p) : strlen(p);
         if (len == 0 || len >= sizeof ax->values[0] || ax->n >= SWEEP_MAX_VALUES)
             return pp5_fail(PP5_E_CONFIG, "--set %s: bad value list", ax->key);
-        memcpy(ax->values[ax->n], p, len);
-        ax->values[ax->n][len] = 0;
-        ax->n++;
+        memcpy(ax->values[ax->n++], p, len);
         p += len + (c ? 1 : 0);
     }
     if (ax->n == 0)
         return pp5_fail(PP5_E_CONFIG, "--set %s: no values", ax->key);
-    if (strcmp(ax->key, "split") == 0) {
-        for (int i = 0; i < ax->n; i++)
-            if (strcmp(ax->values[i], "pp") != 0 && strcmp(ax->values[i], "gp") != 0)
-                return pp5_fail(PP5_E_CONFIG, "--set split: values are pp and gp");
-        return PP5_OK;
-    }
     pp5_params_t probe;
     pp5_params_default(&probe);
+    fw_options_t fo;
+    fw_options_default(&fo);
     for (int i = 0; i < ax->n; i++) {
-        pp5_status_t st = pp5_params_set(&probe, ax->key, ax->values[i]);
+        char kv[128];
+        snprintf(kv, sizeof kv, "%s=%s", ax->key, ax->values[i]);
+        bool taken = false;
+        pp5_status_t st = fw_options_set(&fo, kv, &taken);
+        if (st == PP5_OK && !taken)
+            st = pp5_params_set(&probe, ax->key, ax->values[i]);
         if (st != PP5_OK)
             return st;
     }
     return PP5_OK;
 }
 
-static int cmd_sweep(int argc, char **argv)
+static pp5_status_t parse_option(sweep_t *sw, int c, const char *a)
+{
+    switch (c) {
+    case 's':
+        if (sw->n_axes >= SWEEP_MAX_KEYS)
+            return pp5_fail(PP5_E_CONFIG, "at most %d --set axes", SWEEP_MAX_KEYS);
+        return parse_axis(a, &sw->axes[sw->n_axes++]);
+    case 'o': sw->out_csv = a; return PP5_OK;
+    case 'p': sw->out_png = a; return PP5_OK;
+    case 'P': sw->phantom = a; sw->dataset = NULL; return PP5_OK;
+    case 'd': sw->dataset = a; return PP5_OK;
+    case 'z': return cliopt_size2("--size", a, 8, 1280, &sw->w, &sw->h);
+    case 'm':
+        if (strcmp(a, "gaze") == 0 || strcmp(a, "full") == 0) {
+            sw->mode = strcmp(a, "gaze") == 0 ? RENDER_MODE_GAZE : RENDER_MODE_FULL;
+            return PP5_OK;
+        }
+        return pp5_fail(PP5_E_CONFIG, "--mode: gaze or full, got '%s'", a);
+    case 'l':
+        if (strcmp(a, "specular") == 0 || strcmp(a, "diffuse") == 0) {
+            sw->lighting = strcmp(a, "specular") == 0 ? SHADE_SPECULAR_FIXED_LIGHT
+                                                      : SHADE_DIFFUSE_FIXED_LIGHT;
+            return PP5_OK;
+        }
+        return pp5_fail(PP5_E_CONFIG, "--lighting: specular or diffuse, got '%s'", a);
+    case 'r': sw->preset = a; return PP5_OK;
+    default: return PP5_E_CONFIG;
+    }
+}
+
+/* 0: go on; 1: help printed; 2: usage error; else a failed status. */
+static int parse_args(int argc, char **argv, sweep_t *sw, pp5_status_t *st)
 {
     static const struct option opts[] = {
         {"set", required_argument, NULL, 's'},   {"out", required_argument, NULL, 'o'},
@@ -92,196 +137,212 @@ static int cmd_sweep(int argc, char **argv)
         {"mode", required_argument, NULL, 'm'},  {"lighting", required_argument, NULL, 'l'},
         {"preset", required_argument, NULL, 'r'}, {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0}};
-    sweep_axis_t axes[SWEEP_MAX_KEYS];
-    int n_axes = 0;
-    const char *out_csv = "sweep.csv", *out_png = "sweep.png", *phantom = "shepp-logan";
-    const char *dataset = NULL, *preset = "default";
-    int w = 210, h = 210;
-    render_mode_t mode = RENDER_MODE_GAZE;
-    shade_case_t lighting = SHADE_SPECULAR_FIXED_LIGHT;
-    pp5_status_t st = PP5_OK;
+    *sw = (sweep_t){.out_csv = "sweep.csv", .out_png = "sweep.png", .phantom = "shepp-logan",
+                    .preset = "default", .w = 210, .h = 210, .mode = RENDER_MODE_GAZE,
+                    .lighting = SHADE_SPECULAR_FIXED_LIGHT};
+    *st = PP5_OK;
     optind = 1;
     int c;
-    while (st == PP5_OK && (c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case 's':
-            if (n_axes >= SWEEP_MAX_KEYS)
-                st = pp5_fail(PP5_E_CONFIG, "at most %d --set axes", SWEEP_MAX_KEYS);
-            else
-                st = parse_axis(optarg, &axes[n_axes++]);
-            break;
-        case 'o': out_csv = optarg; break;
-        case 'p': out_png = optarg; break;
-        case 'P': phantom = optarg; dataset = NULL; break;
-        case 'd': dataset = optarg; break;
-        case 'z': st = cliopt_size2("--size", optarg, 8, 1280, &w, &h); break;
-        case 'm':
-            if (strcmp(optarg, "gaze") == 0) mode = RENDER_MODE_GAZE;
-            else if (strcmp(optarg, "full") == 0) mode = RENDER_MODE_FULL;
-            else st = pp5_fail(PP5_E_CONFIG, "--mode: gaze or full");
-            break;
-        case 'l':
-            if (strcmp(optarg, "specular") == 0) lighting = SHADE_SPECULAR_FIXED_LIGHT;
-            else if (strcmp(optarg, "diffuse") == 0) lighting = SHADE_DIFFUSE_FIXED_LIGHT;
-            else st = pp5_fail(PP5_E_CONFIG, "--lighting: specular or diffuse");
-            break;
-        case 'r': preset = optarg; break;
-        case 'h': sweep_usage(stdout); return 0;
-        default: sweep_usage(stderr); return 2;
+    while (*st == PP5_OK && (c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        if (c == 'h') {
+            sweep_usage(stdout);
+            return 1;
         }
+        if (c == '?') {
+            sweep_usage(stderr);
+            return 2;
+        }
+        *st = parse_option(sw, c, optarg);
     }
-    if (st != PP5_OK)
-        return cliopt_report("sweep", st);
-    if (optind < argc) {
-        fprintf(stderr, "pp5 sweep: unexpected argument '%s'\n", argv[optind]);
-        return 2;
+    if (*st == PP5_OK && optind < argc)
+        *st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s'", argv[optind]);
+    if (*st == PP5_OK && sw->n_axes == 0)
+        *st = parse_axis("gp.count=1,2,4,8,16,32", &sw->axes[sw->n_axes++]);
+    sw->points = 1;
+    for (int a = 0; a < sw->n_axes; a++)
+        sw->points *= sw->axes[a].n;
+    if (*st == PP5_OK && sw->points > SWEEP_MAX_POINTS)
+        *st = pp5_fail(PP5_E_CONFIG, "grid of %d points (max %d)", sw->points, SWEEP_MAX_POINTS);
+    return 0;
+}
+
+/* The machine and the firmware settings of grid point pt, and its label
+ * (the values of the axes that vary). */
+static pp5_status_t point_config(const sweep_t *sw, int pt, int *idx, pp5_params_t *p,
+                                 fw_options_t *o, char *label, size_t label_cap)
+{
+    pp5_params_default(p);
+    fw_options_default(o);
+    pp5_status_t st = pp5_params_preset(p, sw->preset);
+    label[0] = '\0';
+    int rem = pt;
+    for (int a = sw->n_axes - 1; a >= 0; a--) {
+        idx[a] = rem % sw->axes[a].n;
+        rem /= sw->axes[a].n;
     }
-    if (n_axes == 0 && (st = parse_axis("gp.count=1,2,4,8,16,32", &axes[n_axes++])) != PP5_OK)
-        return cliopt_report("sweep", st);
-    int points = 1;
-    for (int a = 0; a < n_axes; a++)
-        points *= axes[a].n;
-    if (points > SWEEP_MAX_POINTS)
-        return cliopt_report("sweep", pp5_fail(PP5_E_CONFIG, "grid of %d points (max %d)", points,
-                                               SWEEP_MAX_POINTS));
-    /* Volume */
-    scene_t sc;
-    st = scene_load(dataset ? dataset : phantom, dataset != NULL, &sc);
-    if (st != PP5_OK)
-        return cliopt_report("sweep", st);
-    volume_t vol;
-    st = volume_resample(&sc.volume, 128, 128, 109, &vol);
-    if (st != PP5_OK) {
-        scene_free(&sc);
-        return cliopt_report("sweep", st);
+    for (int a = 0; st == PP5_OK && a < sw->n_axes; a++) {
+        const char *v = sw->axes[a].values[idx[a]];
+        char kv[128];
+        snprintf(kv, sizeof kv, "%s=%s", sw->axes[a].key, v);
+        bool taken = false;
+        st = fw_options_set(o, kv, &taken);
+        if (st == PP5_OK && !taken)
+            st = pp5_params_set(p, sw->axes[a].key, v);
+        size_t l = strlen(label);
+        if (sw->axes[a].n > 1 || sw->n_axes == 1)
+            snprintf(label + l, label_cap - l, "%s%s", l ? "," : "", v);
     }
-    for (int a = 0; a < 3; a++)
-        vol.spacing[a] = sc.volume.spacing[a] * (a == 0 ? sc.volume.nx / 128.0
-                                                 : a == 1 ? sc.volume.ny / 128.0
-                                                          : sc.volume.nz / 109.0);
-    printf("sweep: %s resampled to 128x128x109, %dx%d %s image, lighting %s, preset %s, %d points\n",
-           sc.volume.source, w, h, render_mode_name(mode), shade_case_name(lighting), preset, points);
-    FILE *csv = fopen(out_csv, "w");
-    if (!csv) {
-        volume_free(&vol);
-        scene_free(&sc);
-        return cliopt_report("sweep", pp5_fail(PP5_E_IO, "cannot write %s", out_csv));
-    }
-    for (int a = 0; a < n_axes; a++)
-        fprintf(csv, "%s,", axes[a].key);
+    return st == PP5_OK ? pp5_params_validate(p) : st;
+}
+
+static void csv_header(FILE *csv, const sweep_t *sw)
+{
+    for (int a = 0; a < sw->n_axes; a++)
+        fprintf(csv, "%s,", sw->axes[a].key);
     fprintf(csv, "frame_time_s");
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(csv, ",%s", fw_phase_key((fw_phase_t)k));
-    fprintf(csv, ",rays,samples,ring_data_bytes,ring_pixel_bytes,ring_util,gp_util_mean,"
-                 "renderer_util_mean,bottleneck\n");
-    double *xs = calloc((size_t)points, sizeof *xs);
-    double *ph = calloc((size_t)points * FW_PHASE_COUNT, sizeof *ph);
-    char (*labels)[64] = calloc((size_t)points, sizeof *labels);
-    if (!xs || !ph || !labels) {
-        st = pp5_fail(PP5_E_NOMEM, "sweep: out of memory");
+    fprintf(csv, ",rays,samples,ring_bytes,ring_data_bytes,ring_pixel_bytes,ring_util,gp_util_mean,"
+                 "gp_util_max,gp_imbalance,renderer_util_mean,bottleneck\n");
+}
+
+static void csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t rst,
+                    const fw_frame_result_t *r)
+{
+    for (int a = 0; a < sw->n_axes; a++)
+        fprintf(csv, "%s,", sw->axes[a].values[idx[a]]);
+    if (rst != PP5_OK) {
+        /* A point that does not fit (memory, backing store) is a result too. */
+        fprintf(csv, "nan");
+        for (int k = 0; k < FW_PHASE_COUNT; k++)
+            fprintf(csv, ",nan");
+        fprintf(csv, ",0,0,0,0,0,0,0,0,0,0,\"error: %s\"\n", pp5_error_text());
+        return;
     }
-    for (int pt = 0; st == PP5_OK && pt < points; pt++) {
-        pp5_params_t p;
-        pp5_params_default(&p);
-        st = pp5_params_preset(&p, preset);
-        int split = VR_SPLIT_PP, rem = pt;
-        labels[pt][0] = 0;
+    fprintf(csv, "%.9g", r->frame_time_s);
+    for (int k = 0; k < FW_PHASE_COUNT; k++)
+        fprintf(csv, ",%.9g", r->phase_s[k]);
+    fprintf(csv, ",%llu,%llu,%llu,%llu,%llu,%.6f,%.6f,%.6f,%.6f,%.6f,\"%s\"\n",
+            (unsigned long long)r->rays, (unsigned long long)r->samples,
+            (unsigned long long)r->ring_bytes_total,
+            (unsigned long long)r->ring_bytes[RING_CLASS_DATA],
+            (unsigned long long)r->ring_bytes[RING_CLASS_PIXELS], r->ring_util_total,
+            r->gp_util_mean, r->gp_util_max, r->gp_imbalance, r->rn_util_mean, r->bottleneck);
+}
+
+/* One frame of the job on the machine of point pt. */
+static pp5_status_t run_point(const sweep_t *sw, const render_job_t *job, const pp5_params_t *p,
+                              const fw_options_t *o, fw_frame_result_t *r)
+{
+    fw_session_t s;
+    memset(r, 0, sizeof *r);
+    pp5_status_t st = fw_session_init(&s, job, p, o);
+    if (st == PP5_OK)
+        st = fw_session_frame(&s, 0.5 * (sw->w - 1), 0.5 * (sw->h - 1), NULL, r);
+    fw_session_free(&s);
+    return st;
+}
+
+static pp5_status_t write_plot(const sweep_t *sw, double *xs, double *ph, char (*labels)[64])
+{
+    plot_t pl;
+    char xl[96] = "";
+    for (int a = 0; a < sw->n_axes; a++) {
+        size_t l = strlen(xl);
+        if ((sw->axes[a].n > 1 || sw->n_axes == 1) && l + strlen(sw->axes[a].key) + 3 < sizeof xl)
+            snprintf(xl + l, sizeof xl - l, "%s%s", l ? ", " : "", sw->axes[a].key);
+    }
+    plot_init(&pl, "Emulated frame time by phase (critical path)", xl, "frame time (ms)");
+    const char *cats[SWEEP_MAX_POINTS];
+    for (int pt = 0; pt < sw->points; pt++)
+        cats[pt] = labels[pt];
+    pp5_status_t st = plot_set_categories(&pl, cats, sw->points);
+    for (int k = 0; st == PP5_OK && k < FW_PHASE_COUNT; k++)
+        st = plot_add_stacked(&pl, fw_phase_name((fw_phase_t)k), xs, ph + (size_t)k * sw->points,
+                              sw->points);
+    if (st == PP5_OK)
+        st = plot_write_png(&pl, sw->out_png, 1100, 640);
+    plot_free(&pl);
+    return st;
+}
+
+static pp5_status_t run_grid(const sweep_t *sw, const render_job_t *job, FILE *csv)
+{
+    double *xs = calloc((size_t)sw->points, sizeof *xs);
+    double *ph = calloc((size_t)sw->points * FW_PHASE_COUNT, sizeof *ph);
+    char (*labels)[64] = calloc((size_t)sw->points, sizeof *labels);
+    pp5_status_t st = xs && ph && labels ? PP5_OK : pp5_fail(PP5_E_NOMEM, "sweep: out of memory");
+    for (int pt = 0; st == PP5_OK && pt < sw->points; pt++) {
         int idx[SWEEP_MAX_KEYS];
-        for (int a = n_axes - 1; a >= 0; a--) {
-            idx[a] = rem % axes[a].n;
-            rem /= axes[a].n;
-        }
-        for (int a = 0; st == PP5_OK && a < n_axes; a++) {
-            const char *v = axes[a].values[idx[a]];
-            if (strcmp(axes[a].key, "split") == 0)
-                split = strcmp(v, "gp") == 0 ? VR_SPLIT_GP : VR_SPLIT_PP;
-            else
-                st = pp5_params_set(&p, axes[a].key, v);
-            /* label by the axes that vary */
-            size_t l = strlen(labels[pt]);
-            if (axes[a].n > 1 || n_axes == 1)
-                snprintf(labels[pt] + l, sizeof labels[pt] - l, "%s%s", l ? "," : "", v);
-        }
-        if (st == PP5_OK)
-            st = pp5_params_validate(&p);
-        if (st != PP5_OK)
-            break;
-        render_settings_t rs;
-        render_settings_defaults(&rs);
-        rs.width = (int)w;
-        rs.height = (int)h;
-        rs.mode = mode;
-        rs.view.rot_x_deg = sc.rot_x_deg;
-        rs.view.rot_y_deg = sc.rot_y_deg;
-        rs.view.rot_z_deg = sc.rot_z_deg;
-        shade_params_t sh;
-        shade_defaults(&sh);
-        sh.lighting = lighting;
-        if (lighting == SHADE_SPECULAR_FIXED_LIGHT)
-            sh.specular = 0.4f;
+        pp5_params_t p;
         fw_options_t o;
-        fw_options_default(&o);
-        o.split = split;
-        fw_session_t s;
+        if ((st = point_config(sw, pt, idx, &p, &o, labels[pt], sizeof labels[pt])) != PP5_OK)
+            break;
         fw_frame_result_t r;
-        memset(&r, 0, sizeof r);
-        pp5_status_t rst = fw_session_init(&s, &vol, &sc.tf, &sh, &rs, &p, &o);
-        if (rst == PP5_OK)
-            rst = fw_session_frame(&s, 0.5 * (w - 1), 0.5 * (h - 1), NULL, &r);
-        fw_session_free(&s);
-        for (int a = 0; a < n_axes; a++)
-            fprintf(csv, "%s,", axes[a].values[idx[a]]);
+        pp5_status_t rst = run_point(sw, job, &p, &o, &r);
+        csv_row(csv, sw, idx, rst, &r);
+        xs[pt] = pt;
         if (rst != PP5_OK) {
-            /* A point that does not fit (memory, backing store) is a result too. */
-            fprintf(csv, "nan");
-            for (int k = 0; k < FW_PHASE_COUNT; k++)
-                fprintf(csv, ",nan");
-            fprintf(csv, ",0,0,0,0,0,0,0,\"error: %s\"\n", pp5_error_text());
             printf("  %-24s error: %s\n", labels[pt], pp5_error_text());
-            xs[pt] = pt;
             continue;
         }
-        fprintf(csv, "%.9g", r.frame_time_s);
+        printf("  %-24s %9.2f ms  %6.2f f/s  ring %7.2f MB  GP max/mean %.2f  bottleneck: %s\n",
+               labels[pt], r.frame_time_s * 1e3, 1.0 / r.frame_time_s, r.ring_bytes_total / 1e6,
+               r.gp_imbalance, r.bottleneck);
         for (int k = 0; k < FW_PHASE_COUNT; k++)
-            fprintf(csv, ",%.9g", r.phase_s[k]);
-        fprintf(csv, ",%llu,%llu,%llu,%llu,%.6f,%.6f,%.6f,\"%s\"\n", (unsigned long long)r.rays,
-                (unsigned long long)r.samples, (unsigned long long)r.ring_bytes[RING_CLASS_DATA],
-                (unsigned long long)r.ring_bytes[RING_CLASS_PIXELS], r.ring_util_total,
-                r.gp_util_mean, r.rn_util_mean, r.bottleneck);
-        printf("  %-24s %9.2f ms  %6.2f f/s  bottleneck: %s\n", labels[pt], r.frame_time_s * 1e3,
-               1.0 / r.frame_time_s, r.bottleneck);
-        xs[pt] = pt;
-        for (int k = 0; k < FW_PHASE_COUNT; k++)
-            ph[(size_t)k * points + pt] = r.phase_s[k] * 1e3;
+            ph[(size_t)k * sw->points + pt] = r.phase_s[k] * 1e3;
     }
-    fclose(csv);
-    if (st == PP5_OK) {
-        plot_t pl;
-        char xl[96] = "";
-        for (int a = 0; a < n_axes; a++) {
-            size_t l = strlen(xl);
-            if ((axes[a].n > 1 || n_axes == 1) && l + strlen(axes[a].key) + 3 < sizeof xl) {
-                if (l)
-                    strcat(xl, ", ");
-                strcat(xl, axes[a].key);
-            }
-        }
-        plot_init(&pl, "Emulated frame time by phase (critical path)", xl, "frame time (ms)");
-        const char *cats[SWEEP_MAX_POINTS];
-        for (int pt = 0; pt < points; pt++)
-            cats[pt] = labels[pt];
-        st = plot_set_categories(&pl, cats, points);
-        for (int k = 0; st == PP5_OK && k < FW_PHASE_COUNT; k++)
-            st = plot_add_stacked(&pl, fw_phase_name((fw_phase_t)k), xs, ph + (size_t)k * points, points);
-        if (st == PP5_OK)
-            st = plot_write_png(&pl, out_png, 1100, 640);
-        plot_free(&pl);
-        if (st == PP5_OK)
-            printf("wrote %s and %s\n", out_csv, out_png);
-    }
+    if (st == PP5_OK)
+        st = write_plot(sw, xs, ph, labels);
     free(xs);
     free(ph);
     free(labels);
+    return st;
+}
+
+static int cmd_sweep(int argc, char **argv)
+{
+    sweep_t sw;
+    pp5_status_t st;
+    int rc = parse_args(argc, argv, &sw, &st);
+    if (rc)
+        return rc == 1 ? 0 : 2;
+    if (st != PP5_OK)
+        return cliopt_report("sweep", st);
+    scene_t sc;
+    if ((st = scene_load(sw.dataset ? sw.dataset : sw.phantom, sw.dataset != NULL, &sc)) != PP5_OK)
+        return cliopt_report("sweep", st);
+    volume_t vol;
+    if ((st = scene_paper_volume(&sc, &vol)) != PP5_OK) {
+        scene_free(&sc);
+        return cliopt_report("sweep", st);
+    }
+    render_job_t job = {.volume = &vol, .volume_name = sc.volume.source, .tf = sc.tf, .frames = 1};
+    render_settings_defaults(&job.settings);
+    job.settings.width = sw.w;
+    job.settings.height = sw.h;
+    job.settings.mode = sw.mode;
+    job.settings.view.rot_x_deg = sc.rot_x_deg;
+    job.settings.view.rot_y_deg = sc.rot_y_deg;
+    job.settings.view.rot_z_deg = sc.rot_z_deg;
+    shade_defaults(&job.shade);
+    job.shade.lighting = sw.lighting;
+    if (sw.lighting == SHADE_SPECULAR_FIXED_LIGHT)
+        job.shade.specular = 0.4f;
+    printf("sweep: %s resampled to 128x128x109, %dx%d %s image, lighting %s, preset %s, %d points\n",
+           sc.volume.source, sw.w, sw.h, render_mode_name(sw.mode), shade_case_name(sw.lighting),
+           sw.preset, sw.points);
+    FILE *csv = fopen(sw.out_csv, "w");
+    if (!csv) {
+        st = pp5_fail(PP5_E_IO, "cannot write %s", sw.out_csv);
+    } else {
+        csv_header(csv, &sw);
+        st = run_grid(&sw, &job, csv);
+        if (fclose(csv) != 0 && st == PP5_OK)
+            st = pp5_fail(PP5_E_IO, "cannot write %s", sw.out_csv);
+    }
+    if (st == PP5_OK)
+        printf("wrote %s and %s\n", sw.out_csv, sw.out_png);
     volume_free(&vol);
     scene_free(&sc);
     return st == PP5_OK ? 0 : cliopt_report("sweep", st);

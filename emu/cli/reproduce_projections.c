@@ -44,7 +44,9 @@ static pp5_status_t run_one(const volume_t *v, const classify_tf_t *tf, const sh
         fw_options_t o;
         fw_options_default(&o);
         fw_session_t s;
-        st = fw_session_init(&s, v, tf, sh, &rs, &p, &o);
+        render_job_t job = {.volume = v, .volume_name = v->source, .tf = *tf, .shade = *sh,
+                            .settings = rs, .frames = 1};
+        st = fw_session_init(&s, &job, &p, &o);
         fw_frame_result_t r;
         if (st == PP5_OK)
             st = fw_session_frame(&s, 0.5 * (PROJ_SIZE - 1), 0.5 * (PROJ_SIZE - 1), NULL, &r);
@@ -170,11 +172,8 @@ static int reproduce_projections(const pp5_reproduce_opts_t *o)
     float rot[3] = {sc.rot_x_deg, sc.rot_y_deg, sc.rot_z_deg};
     if (!sc.fell_back) {
         volume_t r;
-        st = volume_resample(&sc.volume, 128, 128, 109, &r);
+        st = scene_paper_volume(&sc, &r);
         if (st == PP5_OK) {
-            for (int a = 0; a < 2; a++)
-                r.spacing[a] = sc.volume.spacing[a];
-            r.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
             rc = projections_dataset("MR subject: brainsmall 128x128x84 resampled trilinearly to "
                                      "128x128x109 (the paper's size)", &r, &sc.tf, rot);
             volume_free(&r);

@@ -1,4 +1,5 @@
-/* vr_cast.c: per pass, the gaze-directed rays: TraceRay (render/raycast.c) on fetched bricks, with octree skipping, level blending and opacity correction, charged from counted kernel executions. *
+/* vr_cast.c: per pass, the gaze-directed rays: TraceRay (render/raycast.c) on fetched bricks, with octree skipping, level blending and opacity correction, charged from counted kernel executions.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -316,12 +317,12 @@ fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s)
     vr_cost_add(&ops, &VR_COST_SKIP, cc.skips);
     vr_cost_add(&ops, &VR_COST_COMPOSITE, cc.composites);
     fw_charge(gp, &ops);
-    s->probe.cyc_cast += fw_cycles(gp) - c0;
-    s->probe.rays += rays;
-    s->probe.samples += cc.samples;
-    s->probe.skipped += cc.skipped;
-    s->probe.cast_ps += fw_time_ps(gp) - s->probe.t_data_done;
-    s->probe.passes = (uint64_t)s->n_passes;
+    vr_stat_add(gp, s, VR_STAT_CYC_CAST, fw_cycles(gp) - c0);
+    vr_stat_add(gp, s, VR_STAT_RAYS, rays);
+    vr_stat_add(gp, s, VR_STAT_SAMPLES, cc.samples);
+    vr_stat_add(gp, s, VR_STAT_SKIPPED, cc.skipped);
+    vr_stat_add(gp, s, VR_STAT_CAST_PS, fw_time_ps(gp) - s->t_data_done);
+    vr_stat_set(gp, s, VR_STAT_PASSES, (uint64_t)s->n_passes);
     if (s->pass + 1 < s->n_passes) {
         /* Drop this pass's bricks and fetch the next column range's. */
         for (int i = 0; i < s->n_bricks; i++)
@@ -333,7 +334,7 @@ fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s)
         return vr_fetch_request_pass(gp, s);
     }
     s->cast_done = true;
-    s->probe.t_cast_done = fw_time_ps(gp);
+    vr_stat_set(gp, s, VR_STAT_T_CAST_DONE, fw_time_ps(gp));
     /* Our first texel row of each level goes to the GP above. */
     if (s->g > 0) {
         size_t floats = 0;

@@ -1,4 +1,5 @@
-/* vr_fetch.c: per frame, the bricks a pass needs: the PP shading stream, backing-store reads (direct or through the driver GP), received bricks and GP-side shading. *
+/* vr_fetch.c: per frame, the bricks a pass needs: the PP shading stream, backing-store reads (direct or through the driver GP), received bricks and GP-side shading.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -91,7 +92,7 @@ fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_
             return FW_ERROR;
     }
     fw_charge(gp, &ops);
-    s->probe.cyc_forward += fw_cycles(gp) - c0;
+    vr_stat_add(gp, s, VR_STAT_CYC_FORWARD, fw_cycles(gp) - c0);
     return FW_OK;
 }
 
@@ -137,7 +138,7 @@ fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s)
             rc = fw_fail(gp, "vr: shading stream: %s", pp_stream_error(&st));
             break;
         }
-        s->probe.pp_stream_words += st.n_words;
+        vr_stat_add(gp, s, VR_STAT_PP_STREAM_WORDS, st.n_words);
         size_t bytes = st.n_words * 4;
         uint32_t *local = fw_alloc(gp, bytes);
         if (!local) {
@@ -151,7 +152,7 @@ fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s)
     }
     fw_free(gp, slots);
     pp_stream_free(&st);
-    s->probe.cyc_exec_build += fw_cycles(gp) - c0;
+    vr_stat_add(gp, s, VR_STAT_CYC_EXEC_BUILD, fw_cycles(gp) - c0);
     return rc;
 }
 
@@ -165,7 +166,7 @@ fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s)
     size_t n_want = 0;
     if (vr_plan_footprint(gp, s, want, &n_want) != FW_OK)
         return FW_ERROR;
-    s->probe.cyc_prep += fw_cycles(gp) - c0;
+    vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
     uint32_t frame = (uint32_t)s->frame;
     /* Requests: via the renderer's driver GP when the PPs shade this frame
      * (its READ_BS then follows its EXEC in the same FIFO), else direct. */
@@ -196,7 +197,7 @@ fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s)
                 return FW_ERROR;
     }
     fw_free(gp, want);
-    s->probe.bricks_fetched += n_want;
+    vr_stat_add(gp, s, VR_STAT_BRICKS_FETCHED, n_want);
     s->t_pass_req = fw_time_ps(gp);
     return vr_fetch_start_cast_if_ready(gp, s);
 }
@@ -205,8 +206,8 @@ fw_status_t vr_fetch_start_cast_if_ready(gp_t *gp, vr_state_t *s)
 {
     if (s->bricks_pending > 0 || s->cast_done)
         return FW_OK;
-    s->probe.t_data_done = fw_time_ps(gp);
-    s->probe.wait_ps += s->probe.t_data_done - s->t_pass_req;
+    s->t_data_done = fw_time_ps(gp);
+    vr_stat_add(gp, s, VR_STAT_WAIT_PS, s->t_data_done - s->t_pass_req);
     return vr_cast_pass(gp, s);
 }
 
@@ -229,8 +230,8 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
     ops.ext_bytes = VR_BRICK_VOXELS * 4u;
     ops.int_ops = 8;
     fw_charge(gp, &ops);
-    s->probe.cyc_unpack += fw_cycles(gp) - c0;
-    s->probe.bytes_fetched += m->payload_bytes;
+    vr_stat_add(gp, s, VR_STAT_CYC_RECEIVE, fw_cycles(gp) - c0);
+    vr_stat_add(gp, s, VR_STAT_BYTES_FETCHED, m->payload_bytes);
     bool gp_shade = s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_GP;
     if (!gp_shade) {
         s->cache[id] = dst;
@@ -252,7 +253,7 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
             fw_charge(gp, &o2);
             fw_free(gp, s->cache_n[id]);
             s->cache_n[id] = NULL;
-            s->probe.cyc_shade += fw_cycles(gp) - c1;
+            vr_stat_add(gp, s, VR_STAT_CYC_SHADE, fw_cycles(gp) - c1);
         }
     }
     s->bricks_pending--;

@@ -1,4 +1,5 @@
-/* vr_gp.c: the gaze-directed volume renderer's GP program: its descriptor and the dispatch of ring messages to the phases (setup, plan, fetch, cast, resample). *
+/* vr_gp.c: the gaze-directed volume renderer's GP program: its descriptor and the dispatch of ring messages to the phases (setup, plan, fetch, cast, resample).
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -8,10 +9,6 @@
 
 #include "vr_gp_internal.h"
 
-const vr_probe_t *vr_probe(const void *state)
-{
-    return state ? &((const vr_state_t *)state)->probe : NULL;
-}
 
 static fw_status_t vr_message(gp_t *gp, const ring_msg_t *m)
 {

@@ -16,6 +16,7 @@
 #include "common/vr_kernels.h"
 #include "common/vr_shade_fixed.h"
 #include "common/vr_shade_pp.h"
+#include "common/vr_stats.h"
 #include "fw_api.h"
 #include "pp_encode.h"
 #include "ring_msg.h"
@@ -80,7 +81,9 @@ typedef struct {
     int tables_pending;                   /* brick tables still to come from GP 0 */
     uint64_t t_pass_req;                  /* when this pass's requests were out */
     vr_shade_consts_t shade_consts;
-    vr_probe_t probe;
+    fw_stat_t stat[VR_STAT_COUNT];        /* handles of the published statistics */
+    uint64_t t_data_done;                 /* when this pass's bricks were all in */
+    bool frame_done;                      /* sections of this frame sent */
 } vr_state_t;
 
 static inline size_t vr_bits_words(int nx, int ny, int nz)
@@ -103,6 +106,17 @@ static inline fw_status_t vr_send_gp(gp_t *gp, unsigned dst, uint32_t sub, uint3
 {
     uint32_t args[RING_MSG_ARGS] = {sub, a1, a2, 0, 0, 0};
     return fw_send(gp, ring_addr(RING_NODE_GP, dst), RING_MSG_GP_USER, args, payload, bytes);
+}
+
+/* Publish (fw_api statistics; common/vr_stats.h names them). */
+static inline void vr_stat_add(gp_t *gp, const vr_state_t *s, int id, uint64_t n)
+{
+    fw_stat_add(gp, s->stat[id], n);
+}
+
+static inline void vr_stat_set(gp_t *gp, const vr_state_t *s, int id, uint64_t v)
+{
+    fw_stat_set(gp, s->stat[id], v);
 }
 
 static inline bool vr_uses_exec(const vr_state_t *s)

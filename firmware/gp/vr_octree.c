@@ -1,4 +1,5 @@
-/* vr_octree.c: bit volumes, their box dilation and the OR pyramid: the octree of render/octree.c as row-padded bit grids on a GP. *
+/* vr_octree.c: bit volumes, their box dilation and the OR pyramid: the octree of render/octree.c as row-padded bit grids on a GP.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */

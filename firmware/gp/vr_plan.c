@@ -1,4 +1,5 @@
-/* vr_plan.c: per frame, what a GP casts: 2DLevel of its rows, the texels its pixels need, and passes (column ranges x depth segments) whose brick footprints fit in local memory. *
+/* vr_plan.c: per frame, what a GP casts: 2DLevel of its rows, the texels its pixels need, and passes (column ranges x depth segments) whose brick footprints fit in local memory.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -92,15 +93,14 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     bool reuse = (s->fr.progressive_keep & 2) && s->level &&
                  s->y0 == s->fr.band_y0[s->g] && s->y1 == s->fr.band_y0[s->g + 1];
     vr_frame_free(gp, s, reuse);
-    memset(&s->probe.t_start, 0, sizeof(uint64_t) * 6);
-    s->probe.cyc_prep = s->probe.cyc_exec_build = s->probe.cyc_forward = s->probe.cyc_unpack = 0;
-    s->probe.cyc_shade = s->probe.cyc_cast = s->probe.cyc_pixels = 0;
-    s->probe.rays = s->probe.samples = s->probe.skipped = 0;
-    s->probe.bricks_fetched = s->probe.bytes_fetched = s->probe.fb_bytes = 0;
-    s->probe.pp_stream_words = 0;
-    s->probe.wait_ps = s->probe.cast_ps = s->probe.passes = 0;
-    s->probe.frame_done = 0;
-    s->probe.t_start = fw_time_ps(gp);
+    /* The phase-boundary times of this frame (published values). */
+    static const int times[] = {VR_STAT_T_PREP_DONE, VR_STAT_T_CAST_DONE, VR_STAT_T_BOUNDARY,
+                                VR_STAT_T_DONE};
+    for (size_t i = 0; i < sizeof times / sizeof times[0]; i++)
+        vr_stat_set(gp, s, times[i], 0);
+    vr_stat_set(gp, s, VR_STAT_PASSES, 0);
+    vr_stat_set(gp, s, VR_STAT_T_START, fw_time_ps(gp));
+    s->frame_done = false;
     s->frame = (int)frame;
     s->cast_done = false;
     s->boundary_ok = false;
@@ -155,10 +155,12 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
                 s->y1 >= c->height;
     int W = c->width, H = c->height;
     if (s->y0 >= s->y1) {
-        s->probe.t_prep_done = s->probe.t_data_done = s->probe.t_cast_done = fw_time_ps(gp);
-        s->probe.t_boundary = s->probe.t_done = fw_time_ps(gp);
-        s->probe.frame_done = 1;
-        s->probe.all_level0 = 1;
+        /* An empty band: every phase ends now. */
+        for (size_t i = 0; i < sizeof times / sizeof times[0]; i++)
+            vr_stat_set(gp, s, times[i], fw_time_ps(gp));
+        s->t_data_done = fw_time_ps(gp);
+        s->frame_done = true;
+        vr_stat_set(gp, s, VR_STAT_ALL_LEVEL0, 1);
         return FW_OK;
     }
     int span = 1 << s->maxm;
@@ -246,7 +248,7 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     }
     vr_cost_add(&ops, &VR_COST_MARK, n_mark);
     fw_charge(gp, &ops);
-    s->probe.cyc_prep += fw_cycles(gp) - c0;
+    vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
     /* Passes (column ranges x depth segments) so that one pass's bricks fit
      * in memory: first try one pass. */
     s->n_passes = s->n_cols = s->n_segs = 1;
@@ -310,7 +312,7 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
                        s->g, (unsigned long long)avail, (unsigned long long)used, n_all,
                        (unsigned long long)per, s->n_passes);
     s->pass = 0;
-    s->probe.t_prep_done = fw_time_ps(gp);
+    vr_stat_set(gp, s, VR_STAT_T_PREP_DONE, fw_time_ps(gp));
     return vr_fetch_request_pass(gp, s);
 }
 

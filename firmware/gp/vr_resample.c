@@ -1,4 +1,5 @@
-/* vr_resample.c: per frame, the 2D mip map back to pixels: the boundary texel rows from the next GP, RenderPixel, and sections of at most 128 columns to the frame buffer. *
+/* vr_resample.c: per frame, the 2D mip map back to pixels: the boundary texel rows from the next GP, RenderPixel, and sections of at most 128 columns to the frame buffer.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -36,9 +37,9 @@ static inline uint8_t to_u8(float v)
 
 fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
 {
-    if (!s->cast_done || !s->boundary_ok || s->probe.frame_done)
+    if (!s->cast_done || !s->boundary_ok || s->frame_done)
         return FW_OK;
-    s->probe.t_boundary = fw_time_ps(gp);
+    vr_stat_set(gp, s, VR_STAT_T_BOUNDARY, fw_time_ps(gp));
     uint64_t c0 = fw_cycles(gp);
     const vr_config_t *c = &s->cfg;
     int W = c->width, rows = s->y1 - s->y0;
@@ -79,11 +80,11 @@ fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
         fw_free(gp, px);
         if (rc != FW_OK)
             return rc;
-        s->probe.fb_bytes += bytes;
+        vr_stat_add(gp, s, VR_STAT_FB_BYTES, bytes);
     }
-    s->probe.cyc_pixels += fw_cycles(gp) - c0;
-    s->probe.t_done = fw_time_ps(gp);
-    s->probe.frame_done = 1;
+    vr_stat_add(gp, s, VR_STAT_CYC_RESAMPLE, fw_cycles(gp) - c0);
+    vr_stat_set(gp, s, VR_STAT_T_DONE, fw_time_ps(gp));
+    s->frame_done = true;
     /* Free the frame's brick cache now (memory is per frame); keep the 2D
      * mip map when the host runs a progressive sequence. */
     int all0 = 1;
@@ -93,7 +94,7 @@ fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
                 all0 = 0;
                 break;
             }
-    s->probe.all_level0 = all0;
+    vr_stat_set(gp, s, VR_STAT_ALL_LEVEL0, (uint64_t)(all0));
     vr_frame_free(gp, s, (s->fr.progressive_keep & 1) != 0);
     return FW_OK;
 }

@@ -1,4 +1,5 @@
-/* vr_setup.c: once per sequence on the GPs: the slab's 3D mip-map levels built and written into the renderers' backing store, then the octree and the brick table gathered on GP 0 and sent to every GP. *
+/* vr_setup.c: once per sequence on the GPs: the slab's 3D mip-map levels built and written into the renderers' backing store, then the octree and the brick table gathered on GP 0 and sent to every GP.
+ *
  * Paper: seed 004 §4 last paragraph (division of work), §5 (octree), §6.
  * Partitioning, PP memory layout and the per-frame message sequence are in
  * firmware/ARCHITECTURE.md. */
@@ -148,7 +149,7 @@ static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, i
             rc = fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS, args,
                          blkn, VR_BRICK_VOXELS * 4u);
         }
-        s->probe.setup_bricks_written++;
+        vr_stat_add(gp, s, VR_STAT_SETUP_BRICKS, 1);
     }
     fw_free(gp, blk);
     return rc;
@@ -233,7 +234,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
                     }
                 }
-        s->probe.setup_voxels_built += (uint64_t)ts[0] * ry * g0->nx;
+        vr_stat_add(gp, s, VR_STAT_SETUP_VOXELS, (uint64_t)ts[0] * ry * g0->nx);
         /* Level-0 bricks of this strip: rows [sy, sy + ry) cover whole
          * brick rows because by_0 divides the strip (32 = by when bz = 8,
          * bx = 64; otherwise bricks are written from a gathered copy). */
@@ -287,7 +288,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                                             VR_BRICK_VOXELS * 4u) != FW_OK)
                                     return FW_ERROR;
                             }
-                            s->probe.setup_bricks_written++;
+                            vr_stat_add(gp, s, VR_STAT_SETUP_BRICKS, 1);
                         }
                         fw_free(gp, blk);
                     }
@@ -514,6 +515,10 @@ fw_status_t vr_setup_start(gp_t *gp)
     if (!s)
         return FW_ERROR;
     fw_set_state(gp, s);
+#define VR_STAT_DECLARE(id, name, kind, unit, meaning) \
+    s->stat[VR_STAT_##id] = fw_stat_declare(gp, name, kind, unit, meaning);
+    VR_STATS(VR_STAT_DECLARE)
+#undef VR_STAT_DECLARE
     memcpy(&s->cfg, data, sizeof s->cfg);
     const vr_config_t *c = &s->cfg;
     if (c->magic != VR_MAGIC || c->levels < 1 || c->levels > VR_MAX_LEVELS)
@@ -531,9 +536,9 @@ fw_status_t vr_setup_start(gp_t *gp)
         id += s->geom[n].gx * s->geom[n].gy * s->geom[n].gz;
     }
     s->n_bricks = id;
-    s->probe.n_bricks_total = (uint64_t)id;
+    vr_stat_set(gp, s, VR_STAT_BRICKS_TOTAL, (uint64_t)id);
     unsigned slots = (unsigned)((id + s->n_r - 1) / s->n_r);
-    s->probe.max_slots_used = slots;
+    vr_stat_set(gp, s, VR_STAT_SLOTS_USED, slots);
     unsigned bs_blocks = fw_machine_info(gp)->pp_bs_blocks;
     if (slots * (unsigned)s->blocks_per_slot > bs_blocks)
         return fw_fail(gp, "vr: the 3D mip map needs %u backing-store blocks per PP "
@@ -577,7 +582,7 @@ fw_status_t vr_setup_start(gp_t *gp)
         }
     }
     s->tables_pending = s->g == 0 ? 0 : c->levels;
-    s->probe.setup_cycles = fw_cycles(gp);
+    vr_stat_set(gp, s, VR_STAT_SETUP_CYCLES, fw_cycles(gp));
     return FW_OK;
 }
 

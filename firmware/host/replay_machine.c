@@ -19,12 +19,11 @@
 #include <unistd.h>
 
 #include "cliopt.h"
-#include "firmware/host/fw_render.h"
 #include "firmware/host/fw_session.h"
-#include "render/render_cli.h"
+#include "render/render_job.h"
 #include "render/scene.h"
-#include "tracker/replay.h"
 #include "render/volume.h"
+#include "tracker/replay.h"
 
 typedef struct {
     fw_session_t session;
@@ -45,44 +44,75 @@ typedef struct {
     int width, height;
     char preset[64];
     char lighting[32];
+    fw_options_t fw;      /* division=, split=, plan=, level_tables= */
+    pp5_params_cli_t params;   /* machine parameters given as NAME=VALUE */
+    char sets[PP5_PARAMS_MAX_SETS][96];
 } machine_cost_opts_t;
+
+/* One KEY=VALUE item of --cost machine:...: the source's own keys, the
+ * firmware's settings, or any machine parameter. */
+static pp5_status_t parse_item(const char *item, machine_cost_opts_t *o)
+{
+    const char *eq = strchr(item, '=');
+    if (!eq)
+        return pp5_fail(PP5_E_CONFIG, "--cost machine: expected KEY=VALUE, got '%s' "
+                        "(keys: volume, size, preset, lighting, division, split, or a machine "
+                        "parameter)", item);
+    size_t klen = (size_t)(eq - item);
+    const char *value = eq + 1;
+    bool is_volume = klen == 6 && strncmp(item, "volume", 6) == 0;
+    bool is_lighting = klen == 8 && strncmp(item, "lighting", 8) == 0;
+    if (is_volume && (strcmp(value, "phantom") == 0 || strcmp(value, "mrbrain") == 0)) {
+        snprintf(o->volume, sizeof o->volume, "%s", value);
+        return PP5_OK;
+    }
+    if (klen == 4 && strncmp(item, "size", 4) == 0)
+        return cliopt_size2("--cost machine: size", value, 16, 1280, &o->width, &o->height);
+    if (klen == 6 && strncmp(item, "preset", 6) == 0) {
+        snprintf(o->preset, sizeof o->preset, "%s", value);
+        return PP5_OK;
+    }
+    if (is_lighting && (strcmp(value, "diffuse") == 0 || strcmp(value, "specular") == 0 ||
+                        strcmp(value, "moving") == 0)) {
+        snprintf(o->lighting, sizeof o->lighting, "%s", value);
+        return PP5_OK;
+    }
+    bool taken = false;
+    if (is_volume || is_lighting)
+        return pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s (volume=phantom|mrbrain, "
+                        "lighting=diffuse|specular|moving)", item);
+    pp5_status_t st = fw_options_set(&o->fw, item, &taken);
+    if (st != PP5_OK || taken)
+        return st;
+    if (o->params.n_sets < PP5_PARAMS_MAX_SETS && strlen(item) < sizeof o->sets[0]) {
+        char *copy = o->sets[o->params.n_sets];
+        snprintf(copy, sizeof o->sets[0], "%s", item);
+        return pp5_params_cli_add_set(&o->params, copy);
+    }
+    return pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s (volume=phantom|mrbrain, "
+                    "size=WxH, preset=NAME, lighting=diffuse|specular|moving, division=NAME, "
+                    "split=pp|gp, or a machine parameter NAME=VALUE)", item);
+}
 
 static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
 {
+    memset(o, 0, sizeof *o);
     snprintf(o->volume, sizeof o->volume, "phantom");
     o->width = o->height = 210;
     snprintf(o->preset, sizeof o->preset, "default");
     snprintf(o->lighting, sizeof o->lighting, "diffuse");
+    fw_options_default(&o->fw);
     char buf[512];
     if (strlen(text) >= sizeof buf)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: options too long");
     snprintf(buf, sizeof buf, "%s", text);
     for (char *save = NULL, *item = strtok_r(buf, ",", &save); item;
          item = strtok_r(NULL, ",", &save)) {
-        char *eq = strchr(item, '=');
-        if (!eq)
-            return pp5_fail(PP5_E_CONFIG, "--cost machine: expected KEY=VALUE, got '%s' "
-                            "(keys: volume, size, preset, lighting)", item);
-        *eq = '\0';
-        const char *key = item, *value = eq + 1;
-        pp5_status_t st = PP5_OK;
-        if (strcmp(key, "volume") == 0 &&
-            (strcmp(value, "phantom") == 0 || strcmp(value, "mrbrain") == 0))
-            snprintf(o->volume, sizeof o->volume, "%s", value);
-        else if (strcmp(key, "size") == 0)
-            st = cliopt_size2("--cost machine: size", value, 16, 1280, &o->width, &o->height);
-        else if (strcmp(key, "preset") == 0)
-            snprintf(o->preset, sizeof o->preset, "%s", value);
-        else if (strcmp(key, "lighting") == 0 &&
-                 (strcmp(value, "diffuse") == 0 || strcmp(value, "specular") == 0 ||
-                  strcmp(value, "moving") == 0))
-            snprintf(o->lighting, sizeof o->lighting, "%s", value);
-        else
-            st = pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s=%s (volume=phantom|mrbrain, "
-                          "size=WxH, preset=NAME, lighting=diffuse|specular|moving)", key, value);
+        pp5_status_t st = parse_item(item, o);
         if (st != PP5_OK)
             return st;
     }
+    o->params.preset = o->preset;
     return PP5_OK;
 }
 
@@ -90,25 +120,19 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
  * made at that size, or the MR subject (brainsmall 128x128x84) resampled to it. */
 static pp5_status_t load_volume(const machine_cost_opts_t *o, machine_cost_t *c)
 {
-    render_cli_t cli;
-    render_cli_defaults(&cli);
-    cli.input = strcmp(o->volume, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
-    cli.input_name = strcmp(o->volume, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
+    render_input_t in;
+    render_input_default(&in);
+    in.kind = strcmp(o->volume, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
+    in.name = strcmp(o->volume, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
     scene_t sc;
-    pp5_status_t st = render_cli_load_input(&cli, &sc, stderr);
+    pp5_status_t st = render_input_load(&in, &sc, stderr);
     if (st != PP5_OK)
         return st;
     c->tf = sc.tf;
     c->settings.view.rot_x_deg = sc.rot_x_deg;
     c->settings.view.rot_y_deg = sc.rot_y_deg;
     c->settings.view.rot_z_deg = sc.rot_z_deg;
-    st = volume_resample(&sc.volume, 128, 128, 109, &c->volume);
-    if (st == PP5_OK) {
-        /* Keep the object's shape: the z spacing grows as the slices do. */
-        c->volume.spacing[0] = sc.volume.spacing[0] * sc.volume.nx / 128.0;
-        c->volume.spacing[1] = sc.volume.spacing[1] * sc.volume.ny / 128.0;
-        c->volume.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
-    }
+    st = scene_paper_volume(&sc, &c->volume);
     scene_free(&sc);
     return st;
 }
@@ -151,20 +175,16 @@ static pp5_status_t machine_cost_open(const char *options, const gaze_geometry_t
     c->display_cy = 0.5 * display->height_px;
     c->image_per_display_px = (double)o.width / display->width_px;
     st = load_volume(&o, c);
-    pp5_params_cli_t pcli;
     pp5_params_t params;
-    if (st == PP5_OK) {
-        memset(&pcli, 0, sizeof pcli);
-        pcli.preset = o.preset;
-        st = pp5_params_build(&pcli, &params);
-    }
-    fw_options_t fo;
-    fw_options_default(&fo);
+    if (st == PP5_OK)
+        st = pp5_params_build(&o.params, &params);
     if (st == PP5_OK) {
         fprintf(stderr, "machine: setting up the gaze-directed renderer (%s 128x128x109, %dx%d "
-                "image, preset %s)...\n", o.volume, o.width, o.height, o.preset);
-        st = fw_session_init(&c->session, &c->volume, &c->tf, &c->shade, &c->settings, &params,
-                             &fo);
+                "image, preset %s, division %s)...\n", o.volume, o.width, o.height, o.preset,
+                fw_division_name(o.fw.division));
+        render_job_t job = {.volume = &c->volume, .volume_name = c->volume.source, .tf = c->tf,
+                            .shade = c->shade, .settings = c->settings, .frames = 1};
+        st = fw_session_init(&c->session, &job, &params, &o.fw);
         c->session_ok = true;
     }
     if (st != PP5_OK) {
@@ -189,9 +209,7 @@ static pp5_status_t machine_cost_frame(void *ctx, double gaze_x, double gaze_y,
         return st;
     out->frame_s = r.frame_time_s;
     out->rays = r.rays;
-    out->ring_bytes = 0;
-    for (unsigned k = 0; k < RING_CLASS_COUNT; k++)
-        out->ring_bytes += r.ring_bytes[k];
+    out->ring_bytes = r.ring_bytes_total;
     out->image = out->want_image ? &c->image : NULL;
     /* Long traces take minutes of host time: say how far we are (on a
      * terminal only, so logs and tests stay clean). */

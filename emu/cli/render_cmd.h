@@ -1,0 +1,38 @@
+/* render_cmd.h: `pp5 render` once its options are parsed: what to render, on which back end, and what to write.
+ *
+ * cmd_render.c parses the command line into a render_cmd_t; the command
+ * loads the input and resolves one render job (render/render_job.h), then
+ * runs it on the native renderer (render_native.c) or on the emulated
+ * machine (render_machine.c), which also compares its image with the native
+ * renderer's. */
+#ifndef PP5_RENDER_CMD_H
+#define PP5_RENDER_CMD_H
+
+#include <stdbool.h>
+#include <stdio.h>
+#include "firmware/host/fw_session.h"
+#include "params.h"
+#include "render/render_job.h"
+
+typedef struct {
+    render_input_t input;
+    render_choices_t choices;
+    const char *out_png, *report_json, *levels_prefix, *fig5_png;
+    bool compare;
+    /* The machine back end (--machine). */
+    bool machine;
+    int frames;                   /* --frames N: the gaze moves across the image */
+    const char *timeline;
+    fw_options_t fw;              /* --division, --split and firmware --set keys */
+    pp5_params_cli_t params;      /* --preset, --config, --set */
+} render_cmd_t;
+
+void render_cmd_defaults(render_cmd_t *c);
+/* The native renderer: frames, PNG, figures 5 and 6, --compare, report. */
+pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, const scene_t *sc,
+                               FILE *log);
+/* The emulated machine: frames, PNG, the comparison with render/, reports,
+ * timeline. */
+pp5_status_t render_machine_run(const render_cmd_t *c, const render_job_t *job, FILE *log);
+
+#endif

@@ -1,0 +1,29 @@
+/* fw_internal.h: what the host session's files share: band planning and the analysis of a finished frame.
+ *
+ * Private to firmware/host. */
+#ifndef PP5_FW_INTERNAL_H
+#define PP5_FW_INTERNAL_H
+
+#include "fw_session.h"
+#include "stats.h"
+
+/* fw_bands.c: GP g owns image rows [band_y0[g], band_y0[g+1]); starts are
+ * multiples of 2^(levels2d-1) so every band begins on a texel row of every
+ * 2D level. */
+void fw_bands_equal(int height, int n_gp, int levels2d, int32_t *band_y0);
+/* The bands of this frame for the session's plan (fw_plan_t), from the gaze
+ * point, the previous frame's measured cost factors (sequences) and, for
+ * FW_PLAN_SAMPLES, the volume's occupancy along a coarse ray grid. */
+void fw_bands_plan(fw_session_t *s, double gx, double gy, int32_t *band_y0);
+/* After a frame: each band's measured GP cycles per unit of estimate, for the
+ * next frame of a sequence. */
+void fw_bands_learn(fw_session_t *s, const stats_t *frame);
+/* FW_PLAN_SAMPLES: keep a coarse copy of the volume's occupancy. */
+pp5_status_t fw_bands_occupancy_init(fw_session_t *s, const render_job_t *job);
+
+/* fw_analysis.c: the frame result from the statistics of the frame
+ * (differences of two snapshots) and the frame's span [t0, t1]. */
+void fw_frame_analyse(fw_session_t *s, const stats_t *frame, pp5_tick_t t0, pp5_tick_t t1,
+                      fw_frame_result_t *r);
+
+#endif

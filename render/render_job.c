@@ -1,0 +1,74 @@
+/* render_job.c: the volume of a render loaded once and its defaults resolved once, for both back ends. */
+#include "render_job.h"
+
+#include <string.h>
+
+void render_input_default(render_input_t *in)
+{
+    memset(in, 0, sizeof *in);
+    in->kind = RENDER_INPUT_PHANTOM;
+    in->name = "shepp-logan";
+}
+
+void render_choices_default(render_choices_t *ch)
+{
+    memset(ch, 0, sizeof *ch);
+    shade_defaults(&ch->shade);
+    render_settings_defaults(&ch->settings);
+}
+
+static pp5_status_t load_file(const render_input_t *in, scene_t *sc)
+{
+    volume_raw_spec_t spec = in->raw;
+    const volume_raw_spec_t *raw = NULL;
+    if (in->have_raw) {
+        raw = &spec;
+    } else if (volume_raw_spec_from_name(in->name, &spec) == PP5_OK) {
+        if (in->have_spacing)
+            memcpy(spec.spacing, in->raw.spacing, sizeof spec.spacing);
+        raw = &spec;
+    }
+    pp5_status_t st = volume_load(in->name, raw, &sc->volume);
+    if (st != PP5_OK)
+        return st;
+    if (in->have_spacing)
+        memcpy(sc->volume.spacing, in->raw.spacing, sizeof sc->volume.spacing);
+    snprintf(sc->name, sizeof sc->name, "file");
+    scene_guess_tf(&sc->volume, &sc->tf);
+    return PP5_OK;
+}
+
+pp5_status_t render_input_load(const render_input_t *in, scene_t *sc, FILE *log)
+{
+    memset(sc, 0, sizeof *sc);
+    if (in->kind == RENDER_INPUT_FILE)
+        return load_file(in, sc);
+    pp5_status_t st = scene_load(in->name, in->kind == RENDER_INPUT_DATASET, sc);
+    if (st == PP5_OK && sc->fell_back && log)
+        fprintf(log, "note: %s\n", sc->note);
+    return st;
+}
+
+pp5_status_t render_job_resolve(render_job_t *job, const scene_t *sc, const render_choices_t *ch)
+{
+    memset(job, 0, sizeof *job);
+    job->volume = &sc->volume;
+    job->volume_name = sc->volume.source;
+    job->tf = ch->have_tf ? ch->tf : sc->tf;
+    job->shade = ch->shade;
+    render_settings_t *s = &job->settings;
+    *s = ch->settings;
+    if (!ch->have_rot) {
+        s->view.rot_x_deg = sc->rot_x_deg;
+        s->view.rot_y_deg = sc->rot_y_deg;
+        s->view.rot_z_deg = sc->rot_z_deg;
+    }
+    if (!ch->have_gaze) {
+        s->gaze_x = 0.5 * (s->width - 1);
+        s->gaze_y = 0.5 * (s->height - 1);
+    }
+    s->progressive = ch->progressive_frames > 0;
+    job->frames = ch->progressive_frames > 0 ? ch->progressive_frames : 1;
+    gaze_model_t check;
+    return gaze_model_init(&check, &s->display, s->width, s->height);
+}
