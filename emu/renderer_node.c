@@ -100,6 +100,40 @@ static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint3
     return PP5_OK;
 }
 
+/* RENDERER_READ_BS_BOX (ring_msg.h): the words of a box of the block's PPs.
+ * The port reads the block's 32 bit planes as for READ_BS and ships only the
+ * box's words ([U]: facts §3.5, the readout path is unknown; a subset costs
+ * the renderer a whole readout). */
+static pp5_status_t read_bs_box(renderer_node_t *n, rnode_item_t *it)
+{
+    const ring_msg_t *m = &it->msg;
+    unsigned bx = m->args[1] & 0xffu, bz = (m->args[1] >> 8) & 0xffu, by = m->args[1] >> 16;
+    unsigned x0 = m->args[4] & 0xffu, z0 = (m->args[4] >> 8) & 0xffu, y0 = m->args[4] >> 16;
+    unsigned sx = m->args[5] & 0xffu, sy = (m->args[5] >> 8) & 0xffu, sz = (m->args[5] >> 16) & 0xffu;
+    if (!bx || !by || !bz || (uint64_t)bx * by * bz > PP_COUNT || !sx || !sy || !sz ||
+        x0 + sx > bx || y0 + sy > by || z0 + sz > bz) {
+        snprintf(it->err, sizeof it->err, "renderer %u: RENDERER_READ_BS_BOX of %ux%ux%u at "
+                 "(%u, %u, %u) does not fit a %ux%ux%u block", n->index, sx, sy, sz, x0, y0, z0,
+                 bx, by, bz);
+        return PP5_E_FIRMWARE;
+    }
+    if (renderer_bs_read(&n->r, m->args[0], n->scratch) != PP5_OK)
+        return item_fail(it, n, "RENDERER_READ_BS_BOX");
+    size_t words = (size_t)sx * sy * sz;
+    pp5_status_t st = item_reply(it, n, m->args[2], RING_MSG_RENDERER_DATA, RING_CLASS_DATA, NULL,
+                                 words * 4);
+    if (st != PP5_OK)
+        return st;
+    uint32_t *out = it->reply_payload;
+    for (unsigned z = 0; z < sz; z++)
+        for (unsigned y = 0; y < sy; y++)
+            memcpy(out + ((size_t)z * sy + y) * sx,
+                   n->scratch + ((size_t)(z0 + z) * by + y0 + y) * bx + x0, sx * sizeof *out);
+    it->reply.args[0] = m->args[3];
+    it->reply.args[1] = 32;
+    return PP5_OK;
+}
+
 static pp5_status_t rnode_apply_inner(renderer_node_t *n, rnode_item_t *it)
 {
     const ring_msg_t *m = &it->msg;
@@ -173,6 +207,12 @@ static pp5_status_t rnode_apply_inner(renderer_node_t *n, rnode_item_t *it)
         port = 32ull * n->cycles_per_bit;
         it->reply.args[0] = m->args[3];
         it->reply.args[1] = 32;
+        break;
+    case RING_MSG_RENDERER_READ_BS_BOX:
+        it->what = "read_bs_box";
+        if ((st = read_bs_box(n, it)) != PP5_OK)
+            return st;
+        port = 32ull * n->cycles_per_bit;
         break;
     case RING_MSG_RENDERER_SEND_PIXELS: {
         it->what = "send_pixels";

@@ -10,6 +10,7 @@
  *   SET_REGION           nothing more (the QEE origin is a register)
  *   WRITE/READ_FIELD     bits x rport.cycles_per_bit  ([U], facts §3.5)
  *   WRITE/READ_BS        32 x rport.cycles_per_bit
+ *   READ_BS_BOX          32 x rport.cycles_per_bit (the whole block is read out)
  *   SEND_PIXELS          24 x rport.cycles_per_bit (three 8-bit fields)
  * A reply (RENDERER_DATA, FB_PIXELS) is posted to the ring when its readout
  * is done; the renderer does not wait for the ring (the port buffers it,

@@ -111,6 +111,49 @@ float gaze_level(const gaze_model_t *g, double r_px)
     return (float)level;
 }
 
+pp5_status_t gaze_level_tables_init(gaze_level_tables_t *t, const gaze_model_t *g, int w, int h)
+{
+    memset(t, 0, sizeof *t);
+    if (w < 1 || h < 1 || w > 8192 || h > 8192)
+        return pp5_fail(PP5_E_RANGE, "2DLevel tables: offsets %dx%d outside 1..8192", w, h);
+    /* The 1D table reaches the periphery radius; past it every level is the
+     * periphery level. */
+    double far = g->r_max_px < sqrt((double)w * w + (double)h * h) ? g->r_max_px
+                                                                  : sqrt((double)w * w + (double)h * h);
+    t->n = (int)ceil(far * GAZE_TABLE_STEPS) + 2;
+    t->w = w;
+    t->h = h;
+    t->dist = malloc((size_t)w * (size_t)h * sizeof *t->dist);
+    t->level = malloc((size_t)t->n * sizeof *t->level);
+    if (!t->dist || !t->level) {
+        gaze_level_tables_free(t);
+        return pp5_fail(PP5_E_NOMEM, "2DLevel tables: out of memory for %dx%d", w, h);
+    }
+    for (int dy = 0; dy < h; dy++)
+        for (int dx = 0; dx < w; dx++)
+            t->dist[(size_t)dy * w + dx] =
+                (uint16_t)floor(sqrt((double)dx * dx + (double)dy * dy) * GAZE_TABLE_STEPS + 0.5);
+    for (int k = 0; k < t->n; k++)
+        t->level[k] = gaze_level(g, (double)k / GAZE_TABLE_STEPS);
+    t->level_far = gaze_level(g, INFINITY);
+    return PP5_OK;
+}
+
+void gaze_level_tables_free(gaze_level_tables_t *t)
+{
+    free(t->dist);
+    free(t->level);
+    memset(t, 0, sizeof *t);
+}
+
+void gaze_level_row_tabled(const gaze_level_tables_t *t, int y, int width, double gaze_x,
+                           double gaze_y, double scale, float *levels)
+{
+    int gx = (int)floor(gaze_x + 0.5), gy = (int)floor(gaze_y + 0.5);
+    for (int x = 0; x < width; x++)
+        levels[x] = gaze_level_tabled(t, x - gx, y - gy, scale);
+}
+
 void mip2d_free(mip2d_t *m)
 {
     for (int i = 0; i < MIP2D_MAX_LEVELS; i++) {

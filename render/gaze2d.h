@@ -39,6 +39,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <math.h>
 #include "status.h"
 
 #define MIP2D_MAX_LEVELS 8
@@ -79,6 +80,47 @@ double gaze_radius_px(const gaze_model_t *g, double e_deg);
 double gaze_target_rays_per_px(const gaze_model_t *g, double e_deg);
 /* 2DLevel at r pixels from the gaze point (0 .. max_level). */
 float gaze_level(const gaze_model_t *g, double r_px);
+
+/* 2DLevel by the paper's two lookup tables (seed 004 §4: "a 2D lookup table
+ * indexed by X and Y offset" gives the distance to the gaze point, "a 1D
+ * lookup table indexed by distance" the level).  Distances are stored in
+ * 1/GAZE_TABLE_STEPS pixel; offsets are integer, so the gaze point is taken
+ * at the nearest pixel and the levels differ slightly from gaze_level's.  The
+ * machine's GP program builds the same tables from the same formula
+ * (firmware/common/vr_kernels.h), so render/ with tables compares like for
+ * like with the machine. */
+#define GAZE_TABLE_STEPS 4
+typedef struct {
+    int w, h;                    /* offsets |dx| < w, |dy| < h */
+    uint16_t *dist;              /* round(sqrt(dx^2 + dy^2) * STEPS), rows of dy */
+    float *level;                /* level[k] = gaze_level(k / STEPS), k < n */
+    int n;
+    float level_far;             /* past the 1D table: the periphery level */
+} gaze_level_tables_t;
+
+pp5_status_t gaze_level_tables_init(gaze_level_tables_t *t, const gaze_model_t *g, int w, int h);
+void gaze_level_tables_free(gaze_level_tables_t *t);
+/* The tables' 2DLevel at integer offset (dx, dy) from the gaze pixel, the
+ * distance divided by `scale` (progressive refinement's growing sweet spot). */
+static inline float gaze_level_tabled(const gaze_level_tables_t *t, int dx, int dy, double scale)
+{
+    dx = dx < 0 ? -dx : dx;
+    dy = dy < 0 ? -dy : dy;
+    /* Offsets past the table (a gaze point off the image): the same
+     * rounded distance, computed. */
+    double d = dx < t->w && dy < t->h ? (double)t->dist[(size_t)dy * (size_t)t->w + (size_t)dx]
+                                      : floor(sqrt((double)dx * dx + (double)dy * dy) *
+                                              GAZE_TABLE_STEPS + 0.5);
+    if (d >= 4294967295.0)
+        return t->level_far;
+    unsigned k = (unsigned)d;
+    if (scale != 1.0)
+        k = (unsigned)((double)k / scale + 0.5);
+    return k < (unsigned)t->n ? t->level[k] : t->level_far;
+}
+/* One row of levels by the tables (the gaze rounded to the nearest pixel). */
+void gaze_level_row_tabled(const gaze_level_tables_t *t, int y, int width, double gaze_x,
+                           double gaze_y, double scale, float *levels);
 
 typedef struct {
     int levels, width, height;

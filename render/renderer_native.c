@@ -65,6 +65,7 @@ void native_renderer_free(native_renderer_t *r)
     mip3d_free(&r->mip);
     octree_free(&r->octree);
     mip2d_free(&r->mip2d);
+    gaze_level_tables_free(&r->tables);
     free(r->level_best);
     free(r->level_now);
     memset(r, 0, sizeof *r);
@@ -79,7 +80,7 @@ const float *native_renderer_levels(const native_renderer_t *r)
 static bool same_view(const render_settings_t *a, const render_settings_t *b)
 {
     return a->width == b->width && a->height == b->height && a->mode == b->mode &&
-           memcmp(&a->view, &b->view, sizeof a->view) == 0 &&
+           a->level_tables == b->level_tables && memcmp(&a->view, &b->view, sizeof a->view) == 0 &&
            memcmp(&a->display, &b->display, sizeof a->display) == 0;
 }
 
@@ -116,7 +117,8 @@ static void job_levels_row(void *ctx, int y, int thread)
      * row of each such pair computes both, the other item does nothing. */
     int twin = -1;
     double twice = 2.0 * s->gaze_y;
-    if (s->mode == RENDER_MODE_GAZE && fabs(twice) < 1e9 && twice == floor(twice)) {
+    if (s->mode == RENDER_MODE_GAZE && !s->level_tables && fabs(twice) < 1e9 &&
+        twice == floor(twice)) {
         long t = (long)twice - y;
         if (t >= 0 && t < s->height && t != y) {
             if (t < y)
@@ -124,7 +126,9 @@ static void job_levels_row(void *ctx, int y, int thread)
             twin = (int)t;
         }
     }
-    if (s->mode == RENDER_MODE_GAZE)
+    if (s->mode == RENDER_MODE_GAZE && s->level_tables)
+        gaze_level_row_tabled(&r->tables, y, s->width, s->gaze_x, s->gaze_y, job->gaze_scale, now);
+    else if (s->mode == RENDER_MODE_GAZE)
         gaze_level_row(&r->gaze, y, s->width, s->gaze_x, s->gaze_y, job->gaze_scale, now);
     else
         for (int x = 0; x < s->width; x++)
@@ -251,6 +255,13 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         r->frame_index = 0;
     } else {
         r->frame_index++;
+    }
+    if (s->level_tables && (r->tables.w != s->width || r->tables.h != s->height ||
+                            memcmp(&r->tables_display, &s->display, sizeof s->display) != 0)) {
+        r->tables_display = s->display;
+        gaze_level_tables_free(&r->tables);
+        if ((st = gaze_level_tables_init(&r->tables, &gm, s->width, s->height)) != PP5_OK)
+            return st;
     }
     r->gaze = gm;
     r->last = *s;

@@ -39,6 +39,9 @@ typedef struct {
      * `progressive_growth` and every pixel keeps the finest level it has had. */
     bool progressive;
     double progressive_growth;
+    /* 2DLevel by the paper's lookup tables (gaze2d.h) instead of exactly: how
+     * the machine computes it by default, for like-for-like comparisons. */
+    bool level_tables;
 } render_settings_t;
 
 void render_settings_defaults(render_settings_t *s);
@@ -66,6 +69,8 @@ typedef struct {
     bool have_view;
     render_settings_t last;       /* view of the previous frame */
     gaze_model_t gaze;
+    gaze_level_tables_t tables;   /* built for the image size when level_tables is set */
+    gaze_display_t tables_display;   /* the display they were built for */
 } native_renderer_t;
 
 /* Builds the 3D mip map and octree (the per-volume preprocessing). */

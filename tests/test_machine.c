@@ -358,6 +358,87 @@ TEST(machine_renderer_field_and_backing_store_round_trip)
     machine_free(&m);
 }
 
+/* RENDERER_READ_BS_BOX: a box of a block seen as a 64 x 32 x 8 array. */
+#define BOX_BX 64
+#define BOX_BY 32
+#define BOX_BZ 8
+static uint32_t g_box_words[PP_COUNT];
+static int g_box_replies, g_box_bad;
+static unsigned g_box[6];      /* x0, y0, z0, sx, sy, sz of the request */
+
+static fw_status_t box_message(gp_t *gp, const ring_msg_t *msg)
+{
+    ring_addr_t r0 = ring_addr(RING_NODE_RENDERER, 0);
+    if (msg->kind == RING_MSG_FRAME_START) {
+        for (uint32_t i = 0; i < PP_COUNT; i++)
+            g_box_words[i] = i * 2654435761u;
+        uint32_t wb[RING_MSG_ARGS] = {5, 0, 0, 0, 0, 0};
+        uint32_t rb[RING_MSG_ARGS] = {5, BOX_BX | BOX_BZ << 8 | BOX_BY << 16,
+                                      ring_addr_pack(ring_addr(RING_NODE_GP, fw_gp_index(gp))), 7,
+                                      g_box[0] | g_box[2] << 8 | g_box[1] << 16,
+                                      g_box[3] | g_box[4] << 8 | g_box[5] << 16};
+        fw_status_t rc = fw_send(gp, r0, RING_MSG_RENDERER_WRITE_BS, wb, g_box_words,
+                                 sizeof g_box_words);
+        return rc == FW_OK ? fw_send(gp, r0, RING_MSG_RENDERER_READ_BS_BOX, rb, NULL, 0) : rc;
+    }
+    if (msg->kind != RING_MSG_RENDERER_DATA || msg->args[0] != 7)
+        return fw_fail(gp, "unexpected message kind %u", msg->kind);
+    g_box_replies++;
+    const uint32_t *v = msg->payload;
+    size_t n = (size_t)g_box[3] * g_box[4] * g_box[5];
+    if (msg->payload_bytes != n * 4)
+        return fw_fail(gp, "box reply of %zu bytes", msg->payload_bytes);
+    size_t k = 0;
+    for (unsigned z = 0; z < g_box[5]; z++)
+        for (unsigned y = 0; y < g_box[4]; y++)
+            for (unsigned x = 0; x < g_box[3]; x++, k++) {
+                size_t i = ((size_t)(g_box[2] + z) * BOX_BY + g_box[1] + y) * BOX_BX + g_box[0] + x;
+                g_box_bad += v[k] != g_box_words[i];
+            }
+    return FW_OK;
+}
+
+static const fw_program_t box_prog = {"box-read", 1024, NULL, box_message};
+
+static pp5_status_t run_box(const unsigned box[6], machine_t *m)
+{
+    memcpy(g_box, box, sizeof g_box);
+    g_box_replies = g_box_bad = 0;
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 1;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    pp5_status_t st = machine_init(m, &p);
+    sched_stop_t why;
+    if (st == PP5_OK)
+        st = machine_load_all(m, &box_prog);
+    if (st == PP5_OK)
+        st = machine_run_setup(m, &why);
+    return st == PP5_OK ? machine_run_frame(m, &why) : st;
+}
+
+TEST(machine_renderer_box_read_ships_only_the_box)
+{
+    machine_t m;
+    const unsigned box[6] = {8, 4, 2, 8, 8, 3};
+    REQUIRE_MSG(run_box(box, &m) == PP5_OK, "frame failed: %s", pp5_error_text());
+    CHECK_EQ(g_box_replies, 1);
+    CHECK_EQ(g_box_bad, 0);
+    /* The renderer reads the whole block out (32 bit planes) for a write and a box. */
+    CHECK_EQ(m.rn[0].port_cycles, 2 * 32 * m.params.rport_cycles_per_bit);
+    /* DATA class: the 64 KiB write and a reply of 8 x 8 x 3 words. */
+    CHECK_EQ(m.ring.bytes_sent[RING_CLASS_DATA],
+             (PP_COUNT * 4 + m.params.ring_header_bytes) + (8 * 8 * 3 * 4 + m.params.ring_header_bytes));
+    machine_free(&m);
+    /* A box reaching past the block is a firmware error naming it. */
+    const unsigned outside[6] = {60, 0, 0, 8, 8, 1};
+    CHECK(run_box(outside, &m) == PP5_E_FIRMWARE);
+    CHECK(strstr(pp5_error_text(), "READ_BS_BOX") != NULL);
+    machine_free(&m);
+}
+
 static fw_status_t bad_exec_message(gp_t *gp, const ring_msg_t *msg)
 {
     uint32_t junk[2] = { 0xffffffffu, 0xffffffffu };   /* not a valid instruction */

@@ -16,6 +16,11 @@
  *   RENDERER_WRITE_BS       renderer  block   -      -        -          -     16384 x uint32
  *   RENDERER_READ_FIELD     renderer  addr    bits   reply_to tag        -     none -> RENDERER_DATA
  *   RENDERER_READ_BS        renderer  block   -      reply_to tag        -     none -> RENDERER_DATA
+ *   RENDERER_READ_BS_BOX    renderer  block   dims   reply_to tag  origin size   none -> RENDERER_DATA of
+ *                           the words of a box of PPs, the block seen as a bx x by x bz array (PP i
+ *                           holds element i, x fastest): a[1] = bx | bz << 8 | by << 16,
+ *                           a[4] = x0 | z0 << 8 | y0 << 16 (origin), a[5] = sx | sy << 8 | sz << 16
+ *                           (size); the reply holds sx*sy*sz words, x fastest
  *   RENDERER_SEND_PIXELS    renderer  r_addr  g_addr b_addr   reply_to   -     none -> FB_PIXELS of the
  *                                     (three 8-bit fields)    (the FB)         renderer's 128x128 region
  *   RENDERER_DATA           any       tag     bits   -        -          -     16384 x uint32
@@ -28,7 +33,6 @@
  * PP data words travel as one 32-bit word per PP whatever the field width
  * ([U]: the renderer port format is unknown, facts §3.5 / open question 4).
  * reply_to is a packed address, ring_addr_pack(). */
-/* changed: FRAME_START kind added after GP_USER. */
 #ifndef PP5_RING_MSG_H
 #define PP5_RING_MSG_H
 
@@ -89,7 +93,8 @@ typedef enum {
     RING_MSG_FB_SWAP,
     RING_MSG_HOST_LOAD,
     RING_MSG_GP_USER,
-    RING_MSG_FRAME_START,     /* changed: added (emu-core), host -> GP */
+    RING_MSG_FRAME_START,     /* host -> GP */
+    RING_MSG_RENDERER_READ_BS_BOX,
     RING_MSG_KIND_COUNT
 } ring_msg_kind_t;
 
@@ -98,7 +103,8 @@ static inline const char *ring_msg_kind_name(uint32_t kind)
 {
     static const char *const names[RING_MSG_KIND_COUNT] = {
         "?", "exec", "set_region", "write_field", "write_bs", "read_field", "read_bs",
-        "send_pixels", "data", "fb_pixels", "fb_swap", "host_load", "gp_user", "frame_start"
+        "send_pixels", "data", "fb_pixels", "fb_swap", "host_load", "gp_user", "frame_start",
+        "read_bs_box"
     };
     return kind < RING_MSG_KIND_COUNT ? names[kind] : "?";
 }

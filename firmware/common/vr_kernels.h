@@ -90,6 +90,60 @@ static inline float vr_gaze_level(const vr_config_t *c, double r_px, int *transc
     return (float)level;
 }
 
+/* 2DLevel by the paper's two lookup tables (seed 004 §4; render/gaze2d.h
+ * gaze_level_tables_t, restated): distances in 1/VR_TABLE_STEPS pixel for
+ * integer offsets from the gaze pixel, then levels by distance.  The GP
+ * allocates the arrays (vr_level_tables_sizes) and fills them once per
+ * sequence (vr_level_tables_fill). */
+#define VR_TABLE_STEPS 4
+typedef struct {
+    int w, h, n;
+    uint16_t *dist;                 /* w * h */
+    float *level;                   /* n */
+    float level_far;
+} vr_level_tables_t;
+
+/* Entries of the 1D table for an image of w x h offsets. */
+static inline int vr_level_tables_entries(const vr_config_t *c, int w, int h)
+{
+    double diag = sqrt((double)w * w + (double)h * h);
+    double far = c->g_r_max_px < diag ? c->g_r_max_px : diag;
+    return (int)ceil(far * VR_TABLE_STEPS) + 2;
+}
+
+/* Fills both tables; returns the transcendental evaluations (for the cost). */
+static inline uint64_t vr_level_tables_fill(const vr_config_t *c, vr_level_tables_t *t)
+{
+    for (int dy = 0; dy < t->h; dy++)
+        for (int dx = 0; dx < t->w; dx++)
+            t->dist[(size_t)dy * t->w + dx] =
+                (uint16_t)floor(sqrt((double)dx * dx + (double)dy * dy) * VR_TABLE_STEPS + 0.5);
+    int trans = 0;
+    uint64_t n_trans = 0;
+    for (int k = 0; k < t->n; k++) {
+        trans = 0;
+        t->level[k] = vr_gaze_level(c, (double)k / VR_TABLE_STEPS, &trans);
+        n_trans += (uint64_t)trans;
+    }
+    t->level_far = vr_gaze_level(c, INFINITY, &trans);
+    return n_trans;
+}
+
+static inline float vr_level_tabled(const vr_level_tables_t *t, int dx, int dy, double scale)
+{
+    dx = dx < 0 ? -dx : dx;
+    dy = dy < 0 ? -dy : dy;
+    double d = dx < t->w && dy < t->h ? (double)t->dist[(size_t)dy * (size_t)t->w + (size_t)dx]
+                                      : floor(sqrt((double)dx * dx + (double)dy * dy) *
+                                              VR_TABLE_STEPS + 0.5);
+    if (d >= 4294967295.0)
+        return t->level_far;
+    unsigned k = (unsigned)d;
+    if (scale != 1.0)
+        k = (unsigned)((double)k / scale + 0.5);
+    return k < (unsigned)t->n ? t->level[k] : t->level_far;
+}
+
 /* camera_ray (render/raycast.c) */
 static inline void vr_camera_ray(const vr_frame_t *f, int width, int height, float px, float py,
                                  float origin[3], float dir[3])
