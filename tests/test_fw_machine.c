@@ -33,6 +33,9 @@ static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
     f->rs.threads = 1;
     f->rs.view.rot_x_deg = 20.0f;
     f->rs.view.rot_y_deg = 30.0f;
+    /* 2DLevel as the machine computes it by default (the paper's tables),
+     * so that render/ is compared like for like. */
+    f->rs.level_tables = true;
     pp5_params_default(&f->p);
     f->p.n_gp = 4;
     f->p.n_renderers = 4;
@@ -66,15 +69,14 @@ static int max_diff(const image8_t *a, const image8_t *b)
 }
 
 /* Runs the machine and both native references for a few gazes. */
-static void check_against_native_view(shade_case_t lighting, render_mode_t mode, int split,
-                                      projection_t proj)
+static void check_against_native_opts(shade_case_t lighting, render_mode_t mode,
+                                      const fw_options_t *opts, projection_t proj)
 {
     fixture_t f;
     fixture(&f, lighting, mode);
     f.rs.view.projection = proj;
-    fw_options_t o;
-    fw_options_default(&o);
-    o.split = split;
+    f.rs.level_tables = opts->level_tables;
+    fw_options_t o = *opts;
     fw_session_t s;
     pp5_status_t st = fw_session_init(&s, JOB(f), &f.p, &o);
     REQUIRE_MSG(st == PP5_OK, "session: %s", pp5_error_text());
@@ -123,9 +125,46 @@ static void check_against_native_view(shade_case_t lighting, render_mode_t mode,
     volume_free(&f.v);
 }
 
+static void check_against_native_view(shade_case_t lighting, render_mode_t mode, int split,
+                                      projection_t proj)
+{
+    fw_options_t o;
+    fw_options_default(&o);
+    o.split = split;
+    check_against_native_opts(lighting, mode, &o, proj);
+}
+
 static void check_against_native(shade_case_t lighting, render_mode_t mode, int split)
 {
     check_against_native_view(lighting, mode, split, PROJECTION_PARALLEL);
+}
+
+/* 2DLevel computed exactly (atan, exp, log2) instead of by the tables. */
+TEST(fw_image_matches_native_exact_2dlevel_gaze)
+{
+    fw_options_t o;
+    fw_options_default(&o);
+    o.level_tables = false;
+    check_against_native_opts(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_GAZE, &o, PROJECTION_PARALLEL);
+}
+
+/* The resident division gives the same image, rays and samples. */
+TEST(fw_image_matches_native_resident_specular_gaze)
+{
+    fw_options_t o;
+    fw_options_default(&o);
+    o.division = FW_DIVISION_RESIDENT;
+    check_against_native_opts(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, &o, PROJECTION_PARALLEL);
+}
+
+TEST(fw_image_matches_native_resident_perspective_gp_split)
+{
+    fw_options_t o;
+    fw_options_default(&o);
+    o.division = FW_DIVISION_RESIDENT;
+    o.split = VR_SPLIT_GP;
+    check_against_native_opts(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, &o,
+                              PROJECTION_PERSPECTIVE);
 }
 
 TEST(fw_image_matches_native_perspective_gaze)

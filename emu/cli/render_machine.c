@@ -95,6 +95,8 @@ static pp5_status_t compare(const fw_session_t *s, const render_job_t *job, doub
 {
     render_job_t last = *job;
     last.settings.gaze_x = gx;
+    /* 2DLevel the machine's way (the paper's tables or exact), like for like. */
+    last.settings.level_tables = s->opts.level_tables;
     int frames = job->settings.progressive ? job->frames : 1;
     image8_t ref = {0}, ref_q = {0}, ref_f = {0};
     render_stats_t ns1, ns2, ns3;

@@ -22,6 +22,7 @@ enum { VR_SPLIT_PP = 0, VR_SPLIT_GP = 1 };   /* where viewpoint-dependent shadin
 enum { VR_MODE_FULL = 0, VR_MODE_GAZE = 1 };
 /* The work divisions (firmware/ARCHITECTURE.md "Work divisions"). */
 enum { VR_DIVISION_IMAGE_BANDS = 0, VR_DIVISION_RESIDENT = 1, VR_DIVISION_OBJECT_SLABS = 2 };
+#define VR_TILES_MAX 8                 /* ray groups per pass (resident) */
 
 /* GP_USER sub-kinds (args[0]). */
 enum {
@@ -61,6 +62,8 @@ typedef struct {
     int32_t max_pass_bricks;            /* cap on bricks per pass (0: local memory decides) */
     int32_t level_tables;               /* 2DLevel by the paper's tables (vr_kernels.h), else exact */
     int32_t division;                   /* VR_DIVISION_*: how the frame's work is divided */
+    int32_t unit_edge;                  /* resident: largest unit edge in voxels (0: whole bricks) */
+    int32_t tiles;                      /* resident: ray groups per pass cast as their units arrive */
     /* Gaze model constants (render/gaze2d.h gaze_model_t), from the host. */
     double g_inches_per_px, g_view_distance_in, g_e_full_deg, g_e_edge_deg, g_sigma_deg,
         g_rho_min, g_r_zero_px, g_r_max_px;

@@ -53,6 +53,13 @@ static const vr_cost_row_t VR_COST_PIXEL = {2 * (6 + 2) + 6, 2 * (3 + 2) + 3 + 3
 /* 2DLevel of one pixel without transcendentals: dx, dy, dx^2 + dy^2, sqrt,
  * 2 compares. */
 static const vr_cost_row_t VR_COST_LEVEL = {3, 2, 0, 1, 0, 1, 2, 3};
+/* 2DLevel by the paper's tables (vr_level_tabled): two offsets and their
+ * absolute values (4 int, 2 branches), the 2D index (2 int) and its load,
+ * the 1D index compare and its load. */
+static const vr_cost_row_t VR_COST_LEVEL_TABLE = {0, 0, 0, 0, 2, 1, 6 + 1, 3};
+/* One entry of the 2D distance table at setup: dx^2 + dy^2 (2 fmul, 1 fadd),
+ * sqrt, scale and round (1 fmul, 1 fadd, 1 int), store. */
+static const vr_cost_row_t VR_COST_TABLE_DIST = {2, 3, 0, 1, 0, 1, 3, 1};
 /* The transcendental branch of 2DLevel (atan, exp, log2 by libm-style
  * polynomial evaluation): [I] ~20 fadd + 20 fmul + 2 fdiv each. */
 static const vr_cost_row_t VR_COST_LEVEL_TRANS = {60, 60, 6, 0, 12, 0, 10, 10};

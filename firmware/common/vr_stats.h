@@ -14,6 +14,7 @@
     X(RAYS, "rays", FW_STAT_COUNTER, "count", "rays started (TraceRay calls of new texels)")  \
     X(SAMPLES, "samples", FW_STAT_COUNTER, "count", "3D samples taken")                        \
     X(SKIPPED, "samples_skipped", FW_STAT_COUNTER, "count", "sample positions skipped by the octree") \
+    X(SKIPS, "octree_skips", FW_STAT_COUNTER, "count", "octree skips (jumps over empty nodes)") \
     X(BRICKS_FETCHED, "bricks_fetched", FW_STAT_COUNTER, "count", "bricks requested from the renderers") \
     X(BYTES_FETCHED, "bytes_fetched", FW_STAT_COUNTER, "bytes", "brick payload bytes received")  \
     X(FB_BYTES, "fb_bytes", FW_STAT_COUNTER, "bytes", "pixel bytes sent to the frame buffer")    \

@@ -49,14 +49,14 @@ static inline int oct_empty_node(const vr_state_t *s, int n, bool exact, const f
 
 static inline void fetch4(const vr_state_t *s, int n, int x, int y, int z, float *out)
 {
-    const vr_level_geom_t *g = &s->geom[n];
-    int bx = x / g->bx, by = y / g->by, bz = z / g->bz;
-    const uint32_t *b = s->cache[s->brick_base[n] + (bz * g->gy + by) * g->gx + bx];
+    const vr_unit_geom_t *u = &s->unit[n];
+    int ix = x / u->ux, iy = y / u->uy, iz = z / u->uz;
+    const uint32_t *b = s->cache[s->unit_base[n] + (iz * u->ugy + iy) * u->ugx + ix];
     if (!b) {
         out[0] = out[1] = out[2] = out[3] = 0.0f;
         return;
     }
-    uint32_t w = b[((z - bz * g->bz) * g->by + (y - by * g->by)) * g->bx + (x - bx * g->bx)];
+    uint32_t w = b[((z - iz * u->uz) * u->uy + (y - iy * u->uy)) * u->ux + (x - ix * u->ux)];
     out[0] = s->u8_to_f[w & 255u];
     out[1] = s->u8_to_f[(w >> 8) & 255u];
     out[2] = s->u8_to_f[(w >> 16) & 255u];
@@ -273,9 +273,12 @@ static bool trace(const vr_state_t *s, float px, float py, int level2d, float rg
     return true;
 }
 
-fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s)
+/* Casts the texels of this pass whose pixel rows (row << level) lie in
+ * [py0, py1): new rays, and rays parked at the end of the previous depth
+ * segment.  Charged from the counted kernel executions. */
+void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1)
 {
-    uint64_t c0 = fw_cycles(gp);
+    uint64_t c0 = fw_cycles(gp), t0 = fw_time_ps(gp);
     cast_counts_t cc;
     memset(&cc, 0, sizeof cc);
     uint64_t rays = 0, calls = 0;
@@ -284,6 +287,8 @@ fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s)
     vr_plan_seg_range(s, s->pass, &tseg[0], &tseg[1]);
     for (int m = 0; m < s->levels2d; m++) {
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++) {
+            if ((j << m) < py0 || (j << m) >= py1)
+                continue;
             size_t row = (size_t)(j - s->jlo[m]) * s->tw[m];
             const uint8_t *nd = s->need[m] + row;
             uint8_t *cf = s->castf[m] + row, *rsx = s->ray_state[m] + row;
@@ -321,45 +326,30 @@ fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s)
     vr_stat_add(gp, s, VR_STAT_RAYS, rays);
     vr_stat_add(gp, s, VR_STAT_SAMPLES, cc.samples);
     vr_stat_add(gp, s, VR_STAT_SKIPPED, cc.skipped);
-    vr_stat_add(gp, s, VR_STAT_CAST_PS, fw_time_ps(gp) - s->t_data_done);
-    vr_stat_set(gp, s, VR_STAT_PASSES, (uint64_t)s->n_passes);
-    if (s->pass + 1 < s->n_passes) {
-        /* Drop this pass's bricks and fetch the next column range's. */
-        for (int i = 0; i < s->n_bricks; i++)
-            if (s->cache[i]) {
-                fw_free(gp, s->cache[i]);
-                s->cache[i] = NULL;
-            }
-        s->pass++;
-        return vr_fetch_request_pass(gp, s);
+    vr_stat_add(gp, s, VR_STAT_SKIPS, cc.skips);
+    vr_stat_add(gp, s, VR_STAT_CAST_PS, fw_time_ps(gp) - t0);
+}
+
+/* After the last pass: our first texel row of each level goes to the GP
+ * above, which needs it for its last pixel rows. */
+fw_status_t vr_cast_send_boundary(gp_t *gp, vr_state_t *s)
+{
+    size_t floats = 0;
+    for (int m = 0; m < s->levels2d; m++)
+        floats += (size_t)s->tw[m] * 3;
+    float *buf = fw_alloc(gp, floats * sizeof(float));
+    if (!buf)
+        return FW_ERROR;
+    size_t off = 0;
+    for (int m = 0; m < s->levels2d; m++) {
+        memcpy(buf + off, s->texel[m], (size_t)s->tw[m] * 3 * sizeof(float));
+        off += (size_t)s->tw[m] * 3;
     }
-    s->cast_done = true;
-    vr_stat_set(gp, s, VR_STAT_T_CAST_DONE, fw_time_ps(gp));
-    /* Our first texel row of each level goes to the GP above. */
-    if (s->g > 0) {
-        size_t floats = 0;
-        for (int m = 0; m < s->levels2d; m++)
-            floats += (size_t)s->tw[m] * 3;
-        float *buf = fw_alloc(gp, floats * sizeof(float));
-        if (!buf)
-            return FW_ERROR;
-        size_t off = 0;
-        for (int m = 0; m < s->levels2d; m++) {
-            memcpy(buf + off, s->texel[m], (size_t)s->tw[m] * 3 * sizeof(float));
-            off += (size_t)s->tw[m] * 3;
-        }
-        fw_ops_t o2 = {0};
-        o2.loads = o2.stores = floats;
-        fw_charge(gp, &o2);
-        fw_status_t rc = vr_send_gp(gp, (unsigned)(s->g - 1), VR_MSG_BOUNDARY, (uint32_t)s->frame, 0,
-                                 buf, floats * sizeof(float));
-        fw_free(gp, buf);
-        if (rc != FW_OK)
-            return rc;
-    }
-    bool last = s->g + 1 >= s->n_gp || s->fr.band_y0[s->g + 2] == s->fr.band_y0[s->g + 1] ||
-                s->y1 >= s->cfg.height;
-    if (last)
-        s->boundary_ok = true;
-    return vr_resample_if_ready(gp, s);
+    fw_ops_t o2 = {0};
+    o2.loads = o2.stores = floats;
+    fw_charge(gp, &o2);
+    fw_status_t rc = vr_send_gp(gp, (unsigned)(s->g - 1), VR_MSG_BOUNDARY, (uint32_t)s->frame, 0,
+                                buf, floats * sizeof(float));
+    fw_free(gp, buf);
+    return rc;
 }

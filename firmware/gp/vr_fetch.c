@@ -11,16 +11,10 @@
 
 void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
 {
-    for (int i = 0; i < s->n_bricks; i++) {
-        if (s->cache[i]) {
-            fw_free(gp, s->cache[i]);
-            s->cache[i] = NULL;
-        }
-        if (s->cache_n[i]) {
-            fw_free(gp, s->cache_n[i]);
-            s->cache_n[i] = NULL;
-        }
-    }
+    /* Resident keeps its units across frames; image-bands drops them after
+     * each pass already. */
+    if (s->cfg.division != VR_DIVISION_RESIDENT && s->cache)
+        vr_units_drop_all(gp, s);
     for (int m = 0; m < VR_MAX_2D_LEVELS; m++) {
         if (s->ray_state[m])
             fw_free(gp, s->ray_state[m]);
@@ -52,43 +46,17 @@ void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
     s->level = NULL;
 }
 
-/* Backing-store block a GP reads for brick id (and the N block, GP split). */
-static unsigned brick_block(const vr_state_t *s, int id, int which)
-{
-    unsigned slot = (unsigned)id / (unsigned)s->n_r;
-    unsigned base = slot * (unsigned)s->blocks_per_slot;
-    if (s->cfg.lighting == VR_LIGHT_DIFFUSE)
-        return base;
-    if (s->cfg.split == VR_SPLIT_PP)
-        return base + 2;
-    return base + (unsigned)which;
-}
-
-static fw_status_t send_read(gp_t *gp, vr_state_t *s, int id, unsigned requester)
-{
-    unsigned r = (unsigned)id % (unsigned)s->n_r;
-    int reads = (s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_GP) ? 2 : 1;
-    for (int w = 0; w < reads; w++) {
-        uint32_t args[RING_MSG_ARGS] = {brick_block(s, id, w), 0,
-                                        ring_addr_pack(ring_addr(RING_NODE_GP, requester)),
-                                        (uint32_t)id * 2u + (uint32_t)w, 0, 0};
-        if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_READ_BS, args, NULL, 0) != FW_OK)
-            return FW_ERROR;
-    }
-    return FW_OK;
-}
-
 fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n,
                                     unsigned requester)
 {
     fw_ops_t ops = {0};
     uint64_t c0 = fw_cycles(gp);
     for (size_t i = 0; i < n; i++) {
-        if ((int)ids[i] >= s->n_bricks)
-            return fw_fail(gp, "vr: request for brick %u", ids[i]);
+        if ((int)ids[i] >= s->n_units)
+            return fw_fail(gp, "vr: request for unit %u", ids[i]);
         ops.loads++;
         ops.int_ops += 4;
-        if (send_read(gp, s, (int)ids[i], requester) != FW_OK)
+        if (vr_unit_send_read(gp, s, (int)ids[i], requester) != FW_OK)
             return FW_ERROR;
     }
     fw_charge(gp, &ops);
@@ -156,106 +124,201 @@ fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s)
     return rc;
 }
 
+/* The requests of this pass: through each renderer's driver GP when the
+ * PPs shade this frame (its reads then follow its EXEC in the same FIFO),
+ * else straight to the renderers. */
+static fw_status_t send_requests(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n)
+{
+    if (!s->exec_this_frame) {
+        for (size_t i = 0; i < n; i++)
+            if (vr_unit_send_read(gp, s, (int)ids[i], (unsigned)s->g) != FW_OK)
+                return FW_ERROR;
+        return FW_OK;
+    }
+    uint32_t *list = fw_alloc(gp, (n + 1) * sizeof(uint32_t));
+    if (!list)
+        return FW_ERROR;
+    fw_status_t rc = FW_OK;
+    for (int d = 0; d < s->n_gp && d < s->n_r && rc == FW_OK; d++) {
+        size_t k = 0;
+        for (size_t i = 0; i < n; i++)
+            if (driver_of(s, vr_unit_renderer(s, (int)ids[i])) == (unsigned)d)
+                list[k++] = ids[i];
+        if (k == 0)
+            continue;
+        if (d == s->g)
+            rc = vr_fetch_forward(gp, s, list, k, (unsigned)s->g);
+        else
+            rc = vr_send_gp(gp, (unsigned)d, VR_MSG_REQUEST, (uint32_t)s->frame, 0, list,
+                            k * sizeof(uint32_t));
+    }
+    fw_free(gp, list);
+    return rc;
+}
+
+/* Resident: the wanted units already held need no read; the others get
+ * room in the cache (evicting the least recently used) and are requested.
+ * Compacts `want` to the units to read. */
+static fw_status_t take_cached(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < *n; i++) {
+        int id = (int)want[i];
+        s->unit_stamp[id] = (uint32_t)s->frame + 1u;
+        if (s->unit_state[id] == 2)
+            continue;
+        if (vr_units_make_room(gp, s, vr_unit_bytes(s, id)) != FW_OK)
+            return FW_ERROR;
+        want[k++] = (uint32_t)id;
+    }
+    *n = k;
+    return FW_OK;
+}
+
 fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s)
 {
-    const vr_config_t *c = &s->cfg;
     uint64_t c0 = fw_cycles(gp);
-    uint32_t *want = fw_alloc(gp, (size_t)s->n_bricks * sizeof(uint32_t));
+    bool resident = s->cfg.division == VR_DIVISION_RESIDENT;
+    size_t cap = (size_t)(resident ? s->n_units : s->n_bricks);
+    uint32_t *want = fw_alloc(gp, cap * sizeof(uint32_t));
     if (!want)
         return FW_ERROR;
     size_t n_want = 0;
-    if (vr_plan_footprint(gp, s, want, &n_want) != FW_OK)
-        return FW_ERROR;
-    vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
-    uint32_t frame = (uint32_t)s->frame;
-    /* Requests: via the renderer's driver GP when the PPs shade this frame
-     * (its READ_BS then follows its EXEC in the same FIFO), else direct. */
-    s->bricks_pending = (int)n_want * ((c->lighting != VR_LIGHT_DIFFUSE && c->split == VR_SPLIT_GP) ? 2 : 1);
-    if (vr_uses_exec(s)) {
-        uint32_t *list = fw_alloc(gp, (n_want + 1) * sizeof(uint32_t));
-        if (!list)
-            return FW_ERROR;
-        for (int d = 0; d < s->n_gp && d < s->n_r; d++) {
-            size_t k = 0;
-            for (size_t i = 0; i < n_want; i++)
-                if (driver_of(s, want[i] % (unsigned)s->n_r) == (unsigned)d)
-                    list[k++] = want[i];
-            if (k == 0)
-                continue;
-            if (d == s->g) {
-                if (vr_fetch_forward(gp, s, list, k, (unsigned)s->g) != FW_OK)
-                    return FW_ERROR;
-            } else if (vr_send_gp(gp, (unsigned)d, VR_MSG_REQUEST, (uint32_t)frame, 0, list,
-                               k * sizeof(uint32_t)) != FW_OK) {
-                return FW_ERROR;
-            }
-        }
-        fw_free(gp, list);
-    } else {
-        for (size_t i = 0; i < n_want; i++)
-            if (send_read(gp, s, (int)want[i], (unsigned)s->g) != FW_OK)
-                return FW_ERROR;
+    fw_status_t rc = resident ? vr_footprint_units(gp, s, want, &n_want, NULL)
+                              : vr_footprint_bricks(gp, s, want, &n_want);
+    if (rc != FW_OK)
+        return rc;
+    /* Every tile waits for the wanted units it needs (one tile under
+     * image-bands, whose units are the bricks). */
+    for (int t = 0; t < s->tiles; t++)
+        s->tile_pending[t] = 0;
+    for (size_t i = 0; i < n_want; i++) {
+        if (!resident)
+            s->unit_tiles[want[i]] = 1;
+        if (!resident || s->unit_state[want[i]] != 2)
+            for (int t = 0; t < s->tiles; t++)
+                s->tile_pending[t] += (s->unit_tiles[want[i]] >> t) & 1;
     }
+    if (resident && take_cached(gp, s, want, &n_want) != FW_OK)
+        return FW_ERROR;
+    for (size_t i = 0; i < n_want; i++)
+        s->unit_state[want[i]] = 1;
+    vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
+    s->bricks_pending = (int)n_want * vr_unit_reads(s);
+    rc = send_requests(gp, s, want, n_want);
     fw_free(gp, want);
+    if (rc != FW_OK)
+        return rc;
     vr_stat_add(gp, s, VR_STAT_BRICKS_FETCHED, n_want);
     s->t_pass_req = fw_time_ps(gp);
-    return vr_fetch_start_cast_if_ready(gp, s);
+    s->tile = 0;
+    s->blocked = true;
+    s->t_blocked = s->t_pass_req;
+    return vr_fetch_cast_ready(gp, s);
 }
 
-fw_status_t vr_fetch_start_cast_if_ready(gp_t *gp, vr_state_t *s)
+/* The pass's casting is over: drop or keep its units, then the next pass or
+ * the end of casting (boundary rows to the GP above, resampling). */
+static fw_status_t pass_done(gp_t *gp, vr_state_t *s)
 {
-    if (s->bricks_pending > 0 || s->cast_done)
+    bool resident = s->cfg.division == VR_DIVISION_RESIDENT;
+    for (int id = 0; id < s->n_units; id++)
+        s->unit_tiles[id] = 0;
+    if (!resident)
+        vr_units_drop_all(gp, s);
+    vr_stat_set(gp, s, VR_STAT_PASSES, (uint64_t)s->n_passes);
+    if (s->pass + 1 < s->n_passes) {
+        s->pass++;
+        return vr_fetch_request_pass(gp, s);
+    }
+    s->cast_done = true;
+    vr_stat_set(gp, s, VR_STAT_T_CAST_DONE, fw_time_ps(gp));
+    if (s->g > 0 && vr_cast_send_boundary(gp, s) != FW_OK)
+        return FW_ERROR;
+    bool last = s->g + 1 >= s->n_gp || s->fr.band_y0[s->g + 2] == s->fr.band_y0[s->g + 1] ||
+                s->y1 >= s->cfg.height;
+    if (last)
+        s->boundary_ok = true;
+    return vr_resample_if_ready(gp, s);
+}
+
+fw_status_t vr_fetch_cast_ready(gp_t *gp, vr_state_t *s)
+{
+    if (s->cast_done)
         return FW_OK;
-    s->t_data_done = fw_time_ps(gp);
-    vr_stat_add(gp, s, VR_STAT_WAIT_PS, s->t_data_done - s->t_pass_req);
-    return vr_cast_pass(gp, s);
+    while (s->tile < s->tiles && s->tile_pending[s->tile] == 0) {
+        if (s->blocked) {
+            /* The time spent waiting for this tile's units (receiving
+             * included) is the pass's wait. */
+            vr_stat_add(gp, s, VR_STAT_WAIT_PS, fw_time_ps(gp) - s->t_blocked);
+            s->blocked = false;
+        }
+        int t = s->tile;
+        vr_cast_texels(gp, s, t == 0 ? 0 : s->tile_y0[t], t + 1 == s->tiles ? 1 << 30 : s->tile_y0[t + 1]);
+        s->tile++;
+    }
+    if (s->tile == s->tiles)
+        return pass_done(gp, s);
+    if (!s->blocked) {
+        s->blocked = true;
+        s->t_blocked = fw_time_ps(gp);
+    }
+    return FW_OK;
+}
+
+/* GP-side viewpoint-dependent shading of a unit whose A and N words are in:
+ * the same integer function as the PP stream (vr_shade_fixed.h). */
+static void shade_unit(gp_t *gp, vr_state_t *s, int id)
+{
+    uint64_t c1 = fw_cycles(gp);
+    uint32_t *a = s->cache[id];
+    const uint32_t *nb = s->cache_n[id];
+    size_t words = vr_unit_bytes(s, id) / 4;
+    for (size_t i = 0; i < words; i++)
+        a[i] = vr_shade_voxel(&s->shade_consts, a[i], nb[i]);
+    fw_ops_t o2 = {0};
+    vr_cost_add(&o2, &VR_COST_SHADE_VOXEL, words);
+    fw_charge(gp, &o2);
+    fw_free(gp, s->cache_n[id]);
+    s->cache_n[id] = NULL;
+    vr_stat_add(gp, s, VR_STAT_CYC_SHADE, fw_cycles(gp) - c1);
 }
 
 fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
 {
     uint32_t tag = m->args[0];
     int id = (int)(tag / 2u), which = (int)(tag & 1u);
-    if (id >= s->n_bricks || m->payload_bytes != VR_BRICK_VOXELS * 4u)
+    if (id >= s->n_units || s->unit_state[id] != 1 || m->payload_bytes != vr_unit_bytes(s, id))
         return fw_fail(gp, "vr: unexpected data message (tag %u, %zu bytes)", tag, m->payload_bytes);
     uint64_t c0 = fw_cycles(gp);
-    uint32_t *dst = fw_alloc(gp, VR_BRICK_VOXELS * 4u);
+    size_t bytes = vr_unit_bytes(s, id);
+    uint32_t *dst = fw_alloc(gp, bytes);
     if (!dst)
-        return fw_fail(gp, "vr: GP %d local memory (%llu bytes) cannot hold brick %d of this "
-                           "frame's vr_plan_footprint: partition does not fit",
+        return fw_fail(gp, "vr: GP %d local memory (%llu bytes) cannot hold unit %d of this "
+                           "frame's footprint: partition does not fit",
                        s->g, (unsigned long long)fw_machine_info(gp)->local_mem_bytes, id);
-    memcpy(dst, m->payload, VR_BRICK_VOXELS * 4u);
-    /* The ring port deposits the brick in local memory over the i860's
+    memcpy(dst, m->payload, bytes);
+    /* The ring port deposits the data in local memory over the i860's
      * external bus (DMA-like, [I]); the GP pays the bus time, not a copy loop. */
     fw_ops_t ops = {0};
-    ops.ext_bytes = VR_BRICK_VOXELS * 4u;
+    ops.ext_bytes = m->payload_bytes;
     ops.int_ops = 8;
     fw_charge(gp, &ops);
     vr_stat_add(gp, s, VR_STAT_CYC_RECEIVE, fw_cycles(gp) - c0);
     vr_stat_add(gp, s, VR_STAT_BYTES_FETCHED, m->payload_bytes);
-    bool gp_shade = s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_GP;
-    if (!gp_shade) {
+    if (which == 0)
         s->cache[id] = dst;
-    } else {
-        if (which == 0)
-            s->cache[id] = dst;
-        else
-            s->cache_n[id] = dst;
-        if (s->cache[id] && s->cache_n[id]) {
-            /* Viewpoint-dependent shading on the GP: same integer function
-             * as the PP stream (vr_shade_fixed.h). */
-            uint64_t c1 = fw_cycles(gp);
-            uint32_t *a = s->cache[id];
-            const uint32_t *nb = s->cache_n[id];
-            for (unsigned i = 0; i < VR_BRICK_VOXELS; i++)
-                a[i] = vr_shade_voxel(&s->shade_consts, a[i], nb[i]);
-            fw_ops_t o2 = {0};
-            vr_cost_add(&o2, &VR_COST_SHADE_VOXEL, VR_BRICK_VOXELS);
-            fw_charge(gp, &o2);
-            fw_free(gp, s->cache_n[id]);
-            s->cache_n[id] = NULL;
-            vr_stat_add(gp, s, VR_STAT_CYC_SHADE, fw_cycles(gp) - c1);
-        }
-    }
+    else
+        s->cache_n[id] = dst;
     s->bricks_pending--;
-    return vr_fetch_start_cast_if_ready(gp, s);
+    bool gp_shade = vr_unit_reads(s) == 2;
+    if (gp_shade && !(s->cache[id] && s->cache_n[id]))
+        return FW_OK;
+    if (gp_shade)
+        shade_unit(gp, s, id);
+    s->unit_state[id] = 2;
+    s->cache_bytes += bytes;
+    for (int t = 0; t < s->tiles; t++)
+        s->tile_pending[t] -= (s->unit_tiles[id] >> t) & 1;
+    return vr_fetch_cast_ready(gp, s);
 }

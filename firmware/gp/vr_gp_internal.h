@@ -33,6 +33,19 @@ typedef struct {
     bits_t occ[VR_MAX_LEVELS];
 } octgrid_t;
 
+/* The unit a GP fetches and keeps: a box of one brick.  Under image-bands a
+ * unit is the whole brick; under resident it is a smaller box, so that only
+ * what the rays can touch crosses the ring (firmware/ARCHITECTURE.md
+ * "Blocks").  Unit dims divide the brick dims, so units tile each level on a
+ * regular grid. */
+typedef struct {
+    int ux, uy, uz;                       /* dims in this level's voxels */
+    int kx, ky, kz;                       /* units per brick along each axis */
+    int ugx, ugy, ugz;                    /* units along each axis of the level */
+} vr_unit_geom_t;
+
+#define VR_MAX_TILES VR_TILES_MAX        /* ray groups of a pass cast as their units arrive */
+
 typedef struct {
     vr_config_t cfg;
     vr_level_geom_t geom[VR_MAX_LEVELS];
@@ -56,11 +69,29 @@ typedef struct {
     vr_frame_t fr;
     int frame;
     bool exec_sent;
+    bool exec_this_frame;                 /* the PPs shade this frame (requests go via drivers) */
+    vr_level_tables_t level_tables;       /* 2DLevel by the paper's tables (cfg.level_tables) */
     uint32_t *pending_req;                /* requests that arrived before our EXEC */
     size_t pending_req_n, pending_req_cap;
-    uint32_t **cache;                     /* per global brick: shaded words or NULL */
-    uint32_t **cache_n;                   /* GP split: N blocks waiting for shading */
-    int bricks_pending;
+    /* Units (see vr_unit_geom_t) and the cache of received ones. */
+    vr_unit_geom_t unit[VR_MAX_LEVELS];
+    int unit_base[VR_MAX_LEVELS];         /* id of a level's first unit */
+    int n_units;
+    uint8_t *unit_nonempty;               /* per unit: may hold opacity > 0 */
+    uint32_t **cache;                     /* per unit: shaded words or NULL */
+    uint32_t **cache_n;                   /* GP split: N words waiting for shading */
+    uint32_t *unit_stamp;                 /* resident: 1 + the last frame that used the unit */
+    uint8_t *unit_tiles;                  /* this pass: bit t = tile t needs the unit */
+    uint8_t *unit_state;                  /* 0 absent, 1 requested, 2 present */
+    uint64_t cache_bytes, cache_budget;   /* bytes of present units; the pass's limit */
+    bool cache_valid_view;                /* resident: cached shaded values are this view's */
+    vr_frame_t last_view;                 /* resident: the view the cache was shaded for */
+    int bricks_pending;                   /* reads of this pass still to arrive */
+    int tiles, tile;                      /* tiles of this pass; the next to cast */
+    int tile_y0[VR_MAX_TILES + 1];        /* pixel rows of each tile */
+    int tile_pending[VR_MAX_TILES];       /* units each tile still waits for */
+    bool blocked;                         /* waiting for a tile's units since t_blocked */
+    uint64_t t_blocked;
     bool cast_done, boundary_ok;
     int levels2d, maxm;
     int y0, y1;                           /* own pixel rows */
@@ -134,23 +165,38 @@ fw_status_t vr_setup_on_slab(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
 fw_status_t vr_setup_on_levelk(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
 fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
 
-/* vr_fetch.c */
-void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view);
-fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n,
-                                    unsigned requester);
-fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s);
-fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s);
-fw_status_t vr_fetch_start_cast_if_ready(gp_t *gp, vr_state_t *s);
-fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+/* vr_units.c */
+fw_status_t vr_units_init(gp_t *gp, vr_state_t *s);
+void vr_unit_locate(const vr_state_t *s, int id, int *level, int ijk[3]);
+size_t vr_unit_bytes(const vr_state_t *s, int id);
+int vr_unit_reads(const vr_state_t *s);
+unsigned vr_unit_renderer(const vr_state_t *s, int id);
+fw_status_t vr_unit_send_read(gp_t *gp, vr_state_t *s, int id, unsigned requester);
+void vr_units_drop_all(gp_t *gp, vr_state_t *s);
+fw_status_t vr_units_make_room(gp_t *gp, vr_state_t *s, size_t bytes);
+
+/* vr_footprint.c */
+fw_status_t vr_footprint_bricks(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_out);
+fw_status_t vr_footprint_units(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_out,
+                               uint64_t *bytes_out);
 
 /* vr_plan.c */
 fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame);
 void vr_plan_seg_range(const vr_state_t *s, int q, float *t0, float *t1);
 void vr_plan_pass_range(const vr_state_t *s, int q, float *x0, float *x1);
-fw_status_t vr_plan_footprint(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_out);
+
+/* vr_fetch.c */
+void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view);
+fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n,
+                             unsigned requester);
+fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_cast_ready(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
 
 /* vr_cast.c */
-fw_status_t vr_cast_pass(gp_t *gp, vr_state_t *s);
+void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1);
+fw_status_t vr_cast_send_boundary(gp_t *gp, vr_state_t *s);
 
 /* vr_resample.c */
 fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s);

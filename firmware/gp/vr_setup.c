@@ -502,6 +502,30 @@ static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
                 return FW_ERROR;
         }
     }
+    /* The units the frames will fetch (after the broadcast: not on its path). */
+    return vr_units_init(gp, s);
+}
+
+/* 2DLevel's two tables (seed 004 §4; vr_kernels.h), once per sequence:
+ * distances for every integer offset within the image, levels by
+ * distance out to the periphery radius. */
+static fw_status_t build_level_tables(gp_t *gp, vr_state_t *s)
+{
+    const vr_config_t *c = &s->cfg;
+    vr_level_tables_t *t = &s->level_tables;
+    t->w = c->width;
+    t->h = c->height;
+    t->n = vr_level_tables_entries(c, t->w, t->h);
+    t->dist = fw_alloc(gp, (size_t)t->w * (size_t)t->h * sizeof *t->dist);
+    t->level = fw_alloc(gp, (size_t)t->n * sizeof *t->level);
+    if (!t->dist || !t->level)
+        return FW_ERROR;
+    uint64_t trans = vr_level_tables_fill(c, t);
+    fw_ops_t ops = {0};
+    vr_cost_add(&ops, &VR_COST_TABLE_DIST, (uint64_t)t->w * (uint64_t)t->h);
+    vr_cost_add(&ops, &VR_COST_LEVEL, (uint64_t)t->n);
+    vr_cost_add(&ops, &VR_COST_LEVEL_TRANS, trans);
+    fw_charge(gp, &ops);
     return FW_OK;
 }
 
@@ -558,9 +582,7 @@ fw_status_t vr_setup_start(gp_t *gp)
         s->u8_to_f[i] = (float)i / 255.0f;
     ops.fdiv += 256;
     fw_charge(gp, &ops);
-    s->cache = fw_alloc(gp, (size_t)id * sizeof(uint32_t *));
-    s->cache_n = fw_alloc(gp, (size_t)id * sizeof(uint32_t *));
-    if (!s->cache || !s->cache_n)
+    if (c->level_tables && build_level_tables(gp, s) != FW_OK)
         return FW_ERROR;
     if (s->g == 0) {
         for (int n = 0; n < c->levels; n++)
@@ -663,8 +685,10 @@ fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         fw_ops_t ops = {0};
         ops.ext_bytes = want;
         fw_charge(gp, &ops);
-        if (s->tables_pending == 0)
+        if (s->tables_pending == 0) {
             s->have_octree = true;
+            return vr_units_init(gp, s);
+        }
         return FW_OK;
     }
     int n = (int)m->args[1], z0 = (int)m->args[2];

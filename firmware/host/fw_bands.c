@@ -75,8 +75,12 @@ void fw_bands_plan(fw_session_t *s, double gx, double gy, int32_t *band_y0)
         fw_bands_equal(height, n_gp, levels2d, band_y0);
         return;
     }
+    camera_t cam;
+    if (s->opts.plan == FW_PLAN_SAMPLES)
+        camera_setup(&cam, &s->rs.view, &s->dims, s->rs.width, s->rs.height);
     for (int u = 0; u < units; u++) {
-        w[u] = unit_rays(s, u, gx, gy);
+        w[u] = s->opts.plan == FW_PLAN_SAMPLES ? fw_estimate_unit(s, &cam, u, gx, gy)
+                                               : unit_rays(s, u, gx, gy);
         s->unit_weight[u] = w[u];
         /* Measured cost per estimated ray of the rows' GP in the previous
          * frame (samples per ray vary with the data). */
@@ -114,11 +118,4 @@ void fw_bands_learn(fw_session_t *s, const stats_t *frame)
     }
     for (int u = 0; u < s->n_units && fn > 0; u++)
         s->unit_factor[u] = s->unit_factor[u] > 0 ? s->unit_factor[u] / (fsum / fn) : 1.0;
-}
-
-pp5_status_t fw_bands_occupancy_init(fw_session_t *s, const render_job_t *job)
-{
-    (void)s;
-    (void)job;
-    return PP5_OK;
 }

@@ -18,8 +18,13 @@ void fw_bands_plan(fw_session_t *s, double gx, double gy, int32_t *band_y0);
 /* After a frame: each band's measured GP cycles per unit of estimate, for the
  * next frame of a sequence. */
 void fw_bands_learn(fw_session_t *s, const stats_t *frame);
-/* FW_PLAN_SAMPLES: keep a coarse copy of the volume's occupancy. */
-pp5_status_t fw_bands_occupancy_init(fw_session_t *s, const render_job_t *job);
+
+/* fw_estimate.c: FW_PLAN_SAMPLES, the estimated GP cycles of each band unit:
+ * the acuity model's rays times the samples each draws, marched through the
+ * volume's opacity on a coarse grid. */
+pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job);
+double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int unit_index, double gx,
+                        double gy);
 
 /* fw_analysis.c: the frame result from the statistics of the frame
  * (differences of two snapshots) and the frame's span [t0, t1]. */

@@ -2,6 +2,7 @@
 #include "fw_session.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const division_names[FW_DIVISION_COUNT] = {"image-bands", "resident",
@@ -14,6 +15,8 @@ void fw_options_default(fw_options_t *o)
     o->split = VR_SPLIT_PP;
     o->plan = FW_PLAN_SAMPLES;
     o->level_tables = true;
+    o->unit_edge = 8;
+    o->tiles = 4;
 }
 
 const char *fw_division_name(fw_division_t d)
@@ -51,7 +54,7 @@ pp5_status_t fw_options_set(fw_options_t *o, const char *kv, bool *taken)
     key[klen] = '\0';
     const char *v = eq + 1;
     int i = 0;
-    pp5_status_t st;
+    pp5_status_t st = PP5_OK;
     if (strcmp(key, "division") == 0) {
         st = choose(key, v, division_names, FW_DIVISION_COUNT, &i);
         o->division = (fw_division_t)i;
@@ -64,6 +67,17 @@ pp5_status_t fw_options_set(fw_options_t *o, const char *kv, bool *taken)
     } else if (strcmp(key, "level_tables") == 0) {
         st = choose(key, v, bools, 2, &i);
         o->level_tables = i == 1;
+    } else if (strcmp(key, "unit_edge") == 0 || strcmp(key, "tiles") == 0) {
+        bool edge = strcmp(key, "unit_edge") == 0;
+        char *end;
+        long n = strtol(v, &end, 10);
+        if (*v == '\0' || *end || n < 1 || n > (edge ? 64 : VR_TILES_MAX))
+            st = pp5_fail(PP5_E_CONFIG, "%s=%s: expected an integer 1..%d", key, v,
+                          edge ? 64 : VR_TILES_MAX);
+        else if (edge)
+            o->unit_edge = (int)n;
+        else
+            o->tiles = (int)n;
     } else {
         return PP5_OK;
     }
@@ -73,7 +87,8 @@ pp5_status_t fw_options_set(fw_options_t *o, const char *kv, bool *taken)
 
 void fw_options_format(const fw_options_t *o, char *buf, size_t n)
 {
-    snprintf(buf, n, "division=%s split=%s plan=%s level_tables=%d", fw_division_name(o->division),
-             o->split == VR_SPLIT_PP ? "pp" : "gp", o->plan == FW_PLAN_RAYS ? "rays" : "samples",
-             o->level_tables ? 1 : 0);
+    snprintf(buf, n, "division=%s split=%s plan=%s level_tables=%d unit_edge=%d tiles=%d",
+             fw_division_name(o->division), o->split == VR_SPLIT_PP ? "pp" : "gp",
+             o->plan == FW_PLAN_RAYS ? "rays" : "samples", o->level_tables ? 1 : 0, o->unit_edge,
+             o->tiles);
 }

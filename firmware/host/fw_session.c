@@ -137,6 +137,12 @@ static pp5_status_t make_config(fw_session_t *s, const render_job_t *job)
         st = config_image(s, &job->settings);
     c->split = s->opts.split;
     c->max_pass_bricks = s->opts.max_pass_bricks;
+    c->division = s->opts.division == FW_DIVISION_RESIDENT ? VR_DIVISION_RESIDENT
+                  : s->opts.division == FW_DIVISION_OBJECT_SLABS ? VR_DIVISION_OBJECT_SLABS
+                                                                 : VR_DIVISION_IMAGE_BANDS;
+    c->level_tables = s->opts.level_tables;
+    c->unit_edge = s->opts.unit_edge;
+    c->tiles = s->opts.tiles;
     return st;
 }
 
@@ -195,7 +201,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     const volume_t *v = job->volume;
     if (!v || !v->data || v->nx < 2 || v->ny < 2 || v->nz < 2)
         return pp5_fail(PP5_E_RANGE, "machine renderer: volume must be at least 2x2x2");
-    if (o->division != FW_DIVISION_IMAGE_BANDS)
+    if (o->division == FW_DIVISION_OBJECT_SLABS)
         return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: division %s is not built yet",
                         fw_division_name(o->division));
     pp5_status_t st = make_config(s, job);
@@ -207,7 +213,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     s->unit_weight = calloc((size_t)s->n_units, sizeof *s->unit_weight);
     if (!s->unit_factor || !s->unit_weight)
         return pp5_fail(PP5_E_NOMEM, "machine renderer: out of memory");
-    if ((st = fw_bands_occupancy_init(s, job)) != PP5_OK)
+    if (o->plan == FW_PLAN_SAMPLES && (st = fw_estimate_init(s, job)) != PP5_OK)
         return st;
     if ((st = machine_init(&s->m, p)) != PP5_OK)
         return st;
@@ -234,7 +240,7 @@ void fw_session_free(fw_session_t *s)
         machine_free(&s->m);
     free(s->unit_factor);
     free(s->unit_weight);
-    free(s->occupancy);
+    free(s->coarse_alpha);
     memset(s, 0, sizeof *s);
 }
 

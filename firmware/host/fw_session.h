@@ -37,6 +37,8 @@ typedef struct {
     int split;                     /* VR_SPLIT_PP (paper) or VR_SPLIT_GP */
     fw_plan_t plan;
     bool level_tables;             /* 2DLevel by the paper's two lookup tables (§4), not exactly */
+    int unit_edge;                 /* resident: largest edge of a fetched unit, voxels (default 8) */
+    int tiles;                     /* resident: ray groups per pass cast as their units arrive (4) */
     int max_pass_bricks;           /* cap bricks per pass below the memory limit (0: off) */
     bool timeline;
 } fw_options_t;
@@ -44,7 +46,7 @@ typedef struct {
 void fw_options_default(fw_options_t *o);
 const char *fw_division_name(fw_division_t d);
 /* One firmware setting given as KEY=VALUE among the --set items (division,
- * split, plan, level_tables).  *taken is false, and nothing is changed, for a
+ * split, plan, level_tables, unit_edge, tiles).  *taken is false, and nothing is changed, for a
  * key that is not the firmware's (a machine parameter); a bad value is an
  * error naming the key, the value and the choices. */
 pp5_status_t fw_options_set(fw_options_t *o, const char *key_eq_value, bool *taken);
@@ -120,8 +122,11 @@ typedef struct {
      * the current frame and the previous frame's measured cost factor. */
     int n_units;
     double *unit_weight, *unit_factor;
-    uint8_t *occupancy;               /* FW_PLAN_SAMPLES: level-0 occupancy bits of the volume */
-    int occ_nx, occ_ny, occ_nz;
+    /* FW_PLAN_SAMPLES: opacity per level-0 voxel length on a coarse grid
+     * (cells of coarse_f^3 voxels), and GP cycles per ray / sample / pixel. */
+    float *coarse_alpha;
+    int coarse_nx, coarse_ny, coarse_nz, coarse_f;
+    double cycles_ray, cycles_sample, cycles_skip, cycles_pixel;
 } fw_session_t;
 
 pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5_params_t *p,

@@ -1,0 +1,206 @@
+/* fw_estimate.c: the host's estimate of each band unit's GP work, so that a single frame's bands are balanced by samples, not rays (fw_plan_t FW_PLAN_SAMPLES).
+ *
+ * A band unit's work is its rays (the acuity model on a 4x4-subsampled grid,
+ * as for FW_PLAN_RAYS) times what each ray costs: its setup, and the samples
+ * it draws before the octree skips or early termination stops it.  The
+ * samples come from a march through the volume's opacity on a coarse grid,
+ * at the ray's own sample spacing; cycles per ray, sample and pixel come from
+ * the firmware's cost rows (firmware/common/vr_cost.h) under this machine's
+ * i860 cost model.  Host work, sent with the frame parameters, not charged to
+ * the machine (firmware/ARCHITECTURE.md "Balanced single frames"). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "firmware/common/vr_cost.h"
+#include "fw_internal.h"
+#include "gp_cost.h"
+#include "render/classify.h"
+
+/* Coarse cells are at most COARSE_SIDE per axis. */
+#define COARSE_SIDE 64
+
+static double row_cycles(const gp_cost_t *c, const vr_cost_row_t *r)
+{
+    fw_ops_t o = {0};
+    vr_cost_add(&o, r, 1);
+    return (double)gp_cost_cycles(c, &o);
+}
+
+/* The mean of the volume over cell (i, j, k) of f^3 voxels. */
+static float cell_mean(const volume_t *v, int f, int i, int j, int k)
+{
+    double sum = 0;
+    int n = 0;
+    for (int z = k * f; z < (k + 1) * f && z < v->nz; z++)
+        for (int y = j * f; y < (j + 1) * f && y < v->ny; y++)
+            for (int x = i * f; x < (i + 1) * f && x < v->nx; x++, n++)
+                sum += volume_at(v, x, y, z);
+    return n ? (float)(sum / n) : 0.0f;
+}
+
+pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
+{
+    const volume_t *v = job->volume;
+    int side = v->nx > v->ny ? (v->nx > v->nz ? v->nx : v->nz) : (v->ny > v->nz ? v->ny : v->nz);
+    int f = (side + COARSE_SIDE - 1) / COARSE_SIDE;
+    int nx = (v->nx + f - 1) / f, ny = (v->ny + f - 1) / f, nz = (v->nz + f - 1) / f;
+    size_t n = (size_t)nx * ny * nz;
+    float *mean = malloc(n * sizeof *mean);
+    s->coarse_alpha = malloc(n * sizeof *s->coarse_alpha);
+    if (!mean || !s->coarse_alpha) {
+        free(mean);
+        return pp5_fail(PP5_E_NOMEM, "machine renderer: out of memory for the band estimate");
+    }
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++)
+                mean[((size_t)k * ny + j) * nx + i] = cell_mean(v, f, i, j, k);
+    /* Opacity per level-0 voxel length from the transfer function, with the
+     * coarse central-difference gradient per level-0 voxel. */
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                int c[3] = {i, j, k}, d[3] = {nx, ny, nz};
+                double g2 = 0;
+                for (int a = 0; a < 3; a++) {
+                    int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+                    lo[a] = c[a] > 0 ? c[a] - 1 : c[a];
+                    hi[a] = c[a] + 1 < d[a] ? c[a] + 1 : c[a];
+                    if (hi[a] == lo[a])
+                        continue;
+                    double dv = mean[((size_t)hi[2] * ny + hi[1]) * nx + hi[0]] -
+                                mean[((size_t)lo[2] * ny + lo[1]) * nx + lo[0]];
+                    double gr = dv / ((hi[a] - lo[a]) * f) * s->dims.inv_spacing[a];
+                    g2 += gr * gr;
+                }
+                float rgb[3];
+                size_t idx = ((size_t)k * ny + j) * nx + i;
+                s->coarse_alpha[idx] = classify_voxel(&job->tf, mean[idx], (float)sqrt(g2), rgb);
+            }
+    free(mean);
+    s->coarse_nx = nx;
+    s->coarse_ny = ny;
+    s->coarse_nz = nz;
+    s->coarse_f = f;
+    gp_cost_t cost;
+    gp_cost_init(&cost, &s->params);
+    s->cycles_ray = row_cycles(&cost, &VR_COST_RAY);
+    s->cycles_sample = row_cycles(&cost, &VR_COST_SAMPLE) + row_cycles(&cost, &VR_COST_TRILERP) +
+                       row_cycles(&cost, &VR_COST_OCT_LEAF) + row_cycles(&cost, &VR_COST_COMPOSITE);
+    /* A skip: the leaf lookup, two steps up the pyramid, the exit
+     * computation and the sample bookkeeping of the position. */
+    s->cycles_skip = row_cycles(&cost, &VR_COST_SKIP) + row_cycles(&cost, &VR_COST_OCT_LEAF) +
+                     2 * row_cycles(&cost, &VR_COST_OCT_UP) + row_cycles(&cost, &VR_COST_SAMPLE);
+    s->cycles_pixel = row_cycles(&cost, &VR_COST_PIXEL) + row_cycles(&cost, &VR_COST_MARK) +
+                      row_cycles(&cost, &VR_COST_LEVEL_TABLE);
+    return PP5_OK;
+}
+
+/* Occupied coarse cell (opacity > 0 in it or a face neighbour: trilinear
+ * reads reach one voxel across), and the largest empty aligned node of the
+ * coarse OR pyramid around cell c: its height h (0 = the cell itself
+ * empty), or -1 when the cell is occupied. */
+static bool cell_occupied(const fw_session_t *s, int x, int y, int z)
+{
+    int d[3] = {s->coarse_nx, s->coarse_ny, s->coarse_nz};
+    if (x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2])
+        return false;
+    return s->coarse_alpha[((size_t)z * d[1] + y) * d[0] + x] > 0.0f;
+}
+
+static int empty_height(const fw_session_t *s, const int c[3])
+{
+    int h = -1;
+    for (int k = 0; k < 7; k++) {
+        int size = 1 << k, base[3];
+        for (int a = 0; a < 3; a++)
+            base[a] = (c[a] >> k) << k;
+        /* node [base, base + size) padded by one cell */
+        for (int z = base[2] - 1; z <= base[2] + size; z++)
+            for (int y = base[1] - 1; y <= base[1] + size; y++)
+                for (int x = base[0] - 1; x <= base[0] + size; x++)
+                    if (cell_occupied(s, x, y, z))
+                        return h;
+        h = k;
+    }
+    return h;
+}
+
+/* Samples and octree skips of the level-m ray through image point (px, py):
+ * a march at the ray's sample spacing that draws a sample in occupied
+ * coarse cells and jumps over the largest empty node otherwise (as the
+ * octree traversal does), until early termination. */
+static void ray_work(const fw_session_t *s, const camera_t *cam, float px, float py, int m,
+                     double *samples, double *skips)
+{
+    float o[3], d[3];
+    camera_ray(cam, px, py, o, d);
+    double step = s->rs.view.sample_step * (double)(1 << m), t0 = 0, t1 = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        if (fabs(d[a]) < 1e-12) {
+            if (o[a] < 0 || o[a] > cam->box_hi[a])
+                return;
+            continue;
+        }
+        double ta = (0 - o[a]) / d[a], tb = (cam->box_hi[a] - o[a]) / d[a];
+        t0 = fmax(t0, fmin(ta, tb));
+        t1 = fmin(t1, fmax(ta, tb));
+    }
+    double acc = 0, len = step * cam->inv_spacing[0];
+    int guard = 0;
+    for (double t = t0; t <= t1 && acc < s->rs.view.early_termination && guard < 100000; guard++) {
+        int c[3];
+        double cf[3];
+        for (int a = 0; a < 3; a++) {
+            cf[a] = (o[a] + t * d[a]) * cam->inv_spacing[a] / s->coarse_f;
+            c[a] = (int)floor(cf[a]);
+        }
+        int h = empty_height(s, c);
+        if (h < 0) {
+            float alpha = s->coarse_alpha[((size_t)c[2] * s->coarse_ny + c[1]) * s->coarse_nx + c[0]];
+            *samples += 1;
+            acc += (1 - acc) * (1 - pow(1 - fmin(alpha, 1.0), len));
+            t += step;
+            continue;
+        }
+        /* Jump to the node's exit along the ray (object units). */
+        *skips += 1;
+        double size = (double)(1 << h), t_exit = INFINITY;
+        for (int a = 0; a < 3; a++) {
+            double lo = floor(cf[a] / size) * size, hi = lo + size;
+            double v = d[a] * cam->inv_spacing[a] / s->coarse_f;
+            if (v > 1e-12)
+                t_exit = fmin(t_exit, t + (hi - cf[a]) / v);
+            else if (v < -1e-12)
+                t_exit = fmin(t_exit, t + (lo - cf[a]) / v);
+        }
+        double k = ceil((t_exit - t) / step);
+        t += (k < 1 ? 1 : k) * step;
+    }
+}
+
+double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int u, double gx, double gy)
+{
+    int unit = 1 << (s->cfg.levels2d - 1), width = s->rs.width;
+    bool gaze = s->rs.mode == RENDER_MODE_GAZE;
+    double y = u * unit + 0.5 * unit, work = 0;
+    for (int x = 2; x < width; x += 4) {
+        float level = 0.0f;
+        if (gaze) {
+            double dx = x - gx, dy = y - gy;
+            level = gaze_level(&s->gaze, sqrt(dx * dx + dy * dy));
+        }
+        /* This column of 4 pixels over the unit's rows: a pixel at a
+         * fractional level needs the texels of both levels around it. */
+        int m = (int)level;
+        for (int l = m; l <= m + 1 && l < s->cfg.levels2d; l++) {
+            if (l > m && !(level > (float)m))
+                break;
+            double rays = 4.0 * unit * pow(0.25, l), samples = 0, skips = 0;
+            ray_work(s, cam, (float)x + 0.5f, (float)y, l, &samples, &skips);
+            work += rays * (s->cycles_ray + s->cycles_sample * samples + s->cycles_skip * skips);
+        }
+    }
+    return work + s->cycles_pixel * width * unit;
+}
