@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "harness.h"
-#include "firmware/testpattern_gp.h"
+#include "firmware/common/testpattern_gp.h"
 #include "machine.h"
 #include "pp_encode.h"
 #include "report.h"

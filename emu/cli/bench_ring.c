@@ -3,7 +3,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "firmware/testpattern_gp.h"
+#include "firmware/host/testpattern_session.h"
 #include "machine.h"
 #include "registry.h"
 #include "ring.h"
@@ -95,10 +95,7 @@ static int bench_ring(const pp5_bench_opts_t *o)
     t0 = wall_s();
     st = machine_init(&m, &p);
     if (st == PP5_OK) {
-        st = machine_load_all(&m, &testpattern_program);
-    }
-    if (st == PP5_OK) {
-        st = machine_run_setup(&m, &why);
+        st = testpattern_session_load(&m, &why);
     }
     double t1 = wall_s();
     if (st == PP5_OK) {
