@@ -113,16 +113,21 @@ const char pp5_version[] = "$(PP5_VERSION)";
 const char pp5_features[] = "$(FEATURES)";
 endef
 
+# Project headers are found with -iquote, so that a project header can never
+# shadow a system header of the same name (<sched.h>, <time.h>).  The GP/PP
+# programs (firmware/ except firmware/host/) see only the firmware API in
+# emu/api/ and their own folders.  A relative path such as
+# "../../emu/machine.h" gets past -iquote, so two checks make the boundary a
+# fact: tests/test_layers.c checks every include (it gets these folder lists,
+# so it resolves includes the way the compiler does), and the link check below
+# allows the programs only symbols that emu/api/ declares.
+LIB_IQUOTE := . emu emu/api emu/util
+FW_IQUOTE  := emu/api firmware
 CFLAGS_ALL := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -pthread $(OPT) $(WARN) \
-              -iquote . -iquote emu -iquote emu/api -iquote emu/util -iquote $(GEN) $(PKG_CFLAGS) \
+              $(addprefix -iquote ,$(LIB_IQUOTE)) -iquote $(GEN) $(PKG_CFLAGS) \
               $(FEATURE_CFLAGS) $(CFLAGS)
 LDLIBS_ALL := $(PKG_LIBS) -lm -pthread $(LDSAN) $(LDFLAGS)
-
-# Project headers are found with -iquote, so that a module header such as
-# emu/sched.h can never shadow a system header (<sched.h>) of the same name.
-# Firmware sees only the firmware API (emu/api): the include path makes it a
-# compile-time fact that GP programs cannot reach into renderer memory.
-FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) -iquote emu/api -iquote firmware $(CFLAGS)
+FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) $(addprefix -iquote ,$(FW_IQUOTE)) $(CFLAGS)
 
 ifneq ($(filter-out deps deps-check clean help,$(or $(MAKECMDGOALS),all)),)
 $(call gen_file,pp5_features.h,$(FEATURES_H))
@@ -153,6 +158,8 @@ $(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ) $(GEN)/ldflags.stamp
 	@echo "built $@ $(PP5_VERSION), optional features: $(FEATURES)"
 
 $(BUILD)/tests/%.o: CFLAGS_ALL += $(TEST_CFLAGS)
+$(BUILD)/tests/test_layers.o: CFLAGS_ALL += -DPP5_LAYERS_LIB_IQUOTE='"$(LIB_IQUOTE)"' \
+    -DPP5_LAYERS_FW_IQUOTE='"$(FW_IQUOTE)"' -DPP5_LAYERS_GEN_DIR='"$(GEN)"'
 $(TEST_BIN): LDLIBS_ALL += $(TEST_LIBS)
 $(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ) $(GEN)/ldflags.stamp
 	$(CC) $(OPT) -o $@ $(filter %.o,$^) $(LDLIBS_ALL)
