@@ -115,4 +115,18 @@ typedef struct {
     size_t payload_bytes;
 } ring_msg_t;
 
+/* A complete message: every field is set, so none goes out with stale header
+ * words.  args: RING_MSG_ARGS words, or NULL for all zero; the payload is
+ * referenced, not copied (the ring copies it when the message is sent). */
+static inline ring_msg_t ring_msg_make(ring_addr_t src, ring_addr_t dst, uint32_t kind,
+                                       uint32_t cls, const uint32_t *args, const void *payload,
+                                       size_t payload_bytes)
+{
+    ring_msg_t m = {src, dst, kind, cls, {0}, payload, payload_bytes};
+    for (unsigned i = 0; args && i < RING_MSG_ARGS; i++) {
+        m.args[i] = args[i];
+    }
+    return m;
+}
+
 #endif
