@@ -65,7 +65,6 @@ const char *sched_stop_name(sched_stop_t r);
  * violation). */
 pp5_status_t sched_at(sched_t *s, pp5_tick_t when, uint32_t priority, sched_fn fn, void *ctx,
                       uint64_t arg);
-size_t sched_pending(const sched_t *s);
 /* Time of the next event, or PP5_TICK_MAX when empty. */
 pp5_tick_t sched_next_time(const sched_t *s);
 

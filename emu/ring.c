@@ -288,15 +288,6 @@ uint64_t ring_total_bytes_sent(const ring_t *r)
     return sum;
 }
 
-pp5_tick_t ring_total_busy_ticks(const ring_t *r)
-{
-    pp5_tick_t sum = 0;
-    for (unsigned c = 0; c < r->n_channels; c++) {
-        sum += r->ch[c].busy_ticks;
-    }
-    return sum;
-}
-
 size_t ring_in_flight(const ring_t *r)
 {
     return r->n_flights - r->n_free;

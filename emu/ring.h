@@ -128,7 +128,6 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
 pp5_status_t ring_set_rx_ports(ring_t *r, unsigned pos, unsigned ports);
 
 uint64_t ring_total_bytes_sent(const ring_t *r);
-pp5_tick_t ring_total_busy_ticks(const ring_t *r);
 /* Messages still in flight. */
 size_t ring_in_flight(const ring_t *r);
 
