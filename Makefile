@@ -8,8 +8,11 @@
 #   make deps       install the Debian packages pp5 needs (apt-get, as root)
 #   make SAN=1 test the same under AddressSanitizer + UBSan (separate build dir)
 #
-# Every .c file under emu/ render/ firmware/ tracker/ is part of the program; a
-# module adds sources by adding files, never by editing this list.
+# The program is every .c file in the folders that LIB_SRC, FW_SRC and CLI_SRC
+# list below (emu/, emu/util/, emu/cli/, render/, tracker/, firmware/host/ and
+# the firmware programs in firmware/ and its subfolders); a module adds
+# sources by adding files, but a new subfolder of emu/, render/ or tracker/
+# must be added to LIB_SRC.  tests/*.c make the test runner.
 
 CC      ?= cc
 SAN     ?= 0

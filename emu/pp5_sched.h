@@ -1,4 +1,4 @@
-/* pp5_sched.h (not sched.h: -Iemu would shadow the system <sched.h> that <pthread.h> includes): the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
+/* pp5_sched.h: the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
  *
  * Events exist only at interactions between units (a ring message arriving,
  * a renderer finishing a command, a GP ready for its next message); between

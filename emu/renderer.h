@@ -1,9 +1,6 @@
 /* renderer.h: one Pixel-Planes 5 renderer: a 128x128 array of bit-serial PPs,
  * its QEE, its backing store, and the cycle accounting of the streams it runs.
  *
- * changed: added renderer_stats_write_json (per-class and per-opcode counters
- *          for the report); seam with emu-core, change only additively
- *
  * Time.  renderer_execute charges renderer-clock cycles from the pp_isa.def cost
  * column.  Compute instructions run one after another (compute_cycles).  A
  * BSLOAD/BSSTORE costs pp.bs_issue_cycles of compute, then its transfer occupies
@@ -81,7 +78,7 @@ void renderer_set_region(renderer_t *r, int x0, int y0);
 pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_words,
                               renderer_exec_result_t *res);
 
-/* Functional access for the ring port (cost charged by emu-core): an n-bit field
+/* Functional access for the ring port (its cost is charged by renderer_node.c): an n-bit field
  * (1 <= bits <= 32, addr + bits <= 208) of all 16384 PPs, row-major (128 per
  * row), unsigned, bit 0 = the bit at addr.  Not masked by E. */
 pp5_status_t renderer_read_field(const renderer_t *r, unsigned addr, unsigned bits, uint32_t *out);

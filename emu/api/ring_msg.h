@@ -1,6 +1,6 @@
 /* ring_msg.h: ring node addresses, traffic classes and message kinds (firmware-facing).
  *
- * Included by firmware (built with -Iemu/api only) and by the emulator.  A
+ * Included by firmware (which sees only emu/api/) and by the emulator.  A
  * message is: source, destination, kind, traffic class, up to RING_MSG_ARGS
  * 32-bit header arguments and an optional payload.  On the wire the ring
  * charges header_bytes (parameter ring.header_bytes, [U]: no source gives
@@ -28,7 +28,6 @@
  * PP data words travel as one 32-bit word per PP whatever the field width
  * ([U]: the renderer port format is unknown, facts §3.5 / open question 4).
  * reply_to is a packed address, ring_addr_pack(). */
-/* changed: FRAME_START kind added after GP_USER. */
 #ifndef PP5_RING_MSG_H
 #define PP5_RING_MSG_H
 
@@ -89,7 +88,7 @@ typedef enum {
     RING_MSG_FB_SWAP,
     RING_MSG_HOST_LOAD,
     RING_MSG_GP_USER,
-    RING_MSG_FRAME_START,     /* changed: added (emu-core), host -> GP */
+    RING_MSG_FRAME_START,     /* host -> GP: start frame a[0] */
     RING_MSG_KIND_COUNT
 } ring_msg_kind_t;
 
