@@ -187,7 +187,7 @@ static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
         dp->rx_free_at[rx] = arrival;
     }
     ch->free_at = end;
-    ch->busy_ticks += ser;
+    ch->busy_ps += ser;
     ch->bytes += wire;
     ch->messages++;
     ch->bytes_by_class[f->msg.cls] += wire;

@@ -43,7 +43,13 @@
 
 typedef struct {
     pp5_tick_t free_at;
-    pp5_tick_t busy_ticks;
+    /* Time the channel carried data, in ps.  busy_ticks is the same field
+     * under its former name, kept only until the last two readers
+     * (emu/stats.c, emu/report.c) use busy_ps; then the union goes. */
+    union {
+        pp5_tick_t busy_ps;
+        pp5_tick_t busy_ticks;
+    };
     uint64_t bytes;                               /* wire bytes incl. headers */
     uint64_t messages;
     uint64_t bytes_by_class[RING_CLASS_COUNT];

@@ -176,7 +176,7 @@ TEST(machine_runs_are_deterministic)
         same &= a.gp[i].busy_cycles == b.gp[i].busy_cycles;
     }
     for (unsigned c = 0; c < a.ring.n_channels; c++) {
-        same &= a.ring.ch[c].bytes == b.ring.ch[c].bytes && a.ring.ch[c].busy_ticks == b.ring.ch[c].busy_ticks;
+        same &= a.ring.ch[c].bytes == b.ring.ch[c].bytes && a.ring.ch[c].busy_ps == b.ring.ch[c].busy_ps;
     }
     CHECK(same);
     CHECK(memcmp(fb_front(&a.fb)->pixels, fb_front(&b.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
@@ -413,7 +413,7 @@ TEST(machine_results_identical_for_1_2_and_4_host_threads)
                     m.rn[i].r.stats.instructions == ref.rn[i].r.stats.instructions;
         }
         for (unsigned c = 0; c < m.ring.n_channels; c++) {
-            same &= m.ring.ch[c].busy_ticks == ref.ring.ch[c].busy_ticks && m.ring.ch[c].bytes == ref.ring.ch[c].bytes;
+            same &= m.ring.ch[c].busy_ps == ref.ring.ch[c].busy_ps && m.ring.ch[c].bytes == ref.ring.ch[c].bytes;
         }
         CHECK_MSG(same, "%u threads: cycle or ring counters differ", counts[k]);
         CHECK(memcmp(fb_front(&m.fb)->pixels, fb_front(&ref.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
