@@ -8,8 +8,11 @@
 #   make deps       install the Debian packages pp5 needs (apt-get, as root)
 #   make SAN=1 test the same under AddressSanitizer + UBSan (separate build dir)
 #
-# Every .c file under emu/ render/ firmware/ tracker/ is part of the program; a
-# module adds sources by adding files, never by editing this list.
+# The program is every .c file in the folders that LIB_SRC, FW_SRC and CLI_SRC
+# list below (emu/, emu/util/, emu/cli/, render/, tracker/, firmware/host/ and
+# the firmware programs in firmware/ and its subfolders); a module adds
+# sources by adding files, but a new subfolder of emu/, render/ or tracker/
+# must be added to LIB_SRC.  tests/*.c make the test runner.
 
 CC      ?= cc
 SAN     ?= 0
@@ -113,16 +116,21 @@ const char pp5_version[] = "$(PP5_VERSION)";
 const char pp5_features[] = "$(FEATURES)";
 endef
 
+# Project headers are found with -iquote, so that a project header can never
+# shadow a system header of the same name (<sched.h>, <time.h>).  The GP/PP
+# programs (firmware/ except firmware/host/) see only the firmware API in
+# emu/api/ and their own folders.  A relative path such as
+# "../../emu/machine.h" gets past -iquote, so two checks make the boundary a
+# fact: tests/test_layers.c checks every include (it gets these folder lists,
+# so it resolves includes the way the compiler does), and the link check below
+# allows the programs only symbols that emu/api/ declares.
+LIB_IQUOTE := . emu emu/api emu/util
+FW_IQUOTE  := emu/api firmware
 CFLAGS_ALL := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -pthread $(OPT) $(WARN) \
-              -iquote . -iquote emu -iquote emu/api -iquote emu/util -iquote $(GEN) $(PKG_CFLAGS) \
+              $(addprefix -iquote ,$(LIB_IQUOTE)) -iquote $(GEN) $(PKG_CFLAGS) \
               $(FEATURE_CFLAGS) $(CFLAGS)
 LDLIBS_ALL := $(PKG_LIBS) -lm -pthread $(LDSAN) $(LDFLAGS)
-
-# Project headers are found with -iquote, so that a module header such as
-# emu/sched.h can never shadow a system header (<sched.h>) of the same name.
-# Firmware sees only the firmware API (emu/api): the include path makes it a
-# compile-time fact that GP programs cannot reach into renderer memory.
-FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) -iquote emu/api -iquote firmware $(CFLAGS)
+FW_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -pthread $(OPT) $(WARN) $(addprefix -iquote ,$(FW_IQUOTE)) $(CFLAGS)
 
 ifneq ($(filter-out deps deps-check clean help,$(or $(MAKECMDGOALS),all)),)
 $(call gen_file,pp5_features.h,$(FEATURES_H))
@@ -138,23 +146,28 @@ FW_SRC   := $(sort $(filter-out firmware/host/%,$(wildcard firmware/*.c firmware
 CLI_SRC  := $(sort $(wildcard emu/cli/*.c))
 TEST_SRC := $(sort $(wildcard tests/*.c))
 
-LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(FW_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_version.o
+FW_OBJ   := $(FW_SRC:%.c=$(BUILD)/%.o)
+FW_CHECK := $(BUILD)/fw-boundary
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(FW_OBJ) $(GEN)/pp5_version.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
 PP5_BIN  := $(if $(filter 1,$(SAN)),$(BUILD)/pp5,pp5)
 TEST_BIN := $(BUILD)/pp5-tests
 
-.PHONY: all test test-run demo bench bench-peers deps deps-check deps-audit clean help
+.PHONY: all test test-run fw-boundary-probe demo bench bench-peers deps deps-check deps-audit clean help
 all: $(PP5_BIN)
 
-$(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ) $(GEN)/ldflags.stamp
+$(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ) $(GEN)/ldflags.stamp $(FW_CHECK)/ok
 	$(CC) $(OPT) -o $@ $(filter %.o,$^) $(LDLIBS_ALL)
 	@echo "built $@ $(PP5_VERSION), optional features: $(FEATURES)"
 
 $(BUILD)/tests/%.o: CFLAGS_ALL += $(TEST_CFLAGS)
+$(BUILD)/tests/test_layers.o: CFLAGS_ALL += -DPP5_LAYERS_LIB_IQUOTE='"$(LIB_IQUOTE)"' \
+    -DPP5_LAYERS_FW_IQUOTE='"$(FW_IQUOTE)"' -DPP5_LAYERS_GEN_DIR='"$(GEN)"'
 $(TEST_BIN): LDLIBS_ALL += $(TEST_LIBS)
-$(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ) $(GEN)/ldflags.stamp
+$(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ) $(GEN)/ldflags.stamp \
+            $(FW_CHECK)/ok
 	$(CC) $(OPT) -o $@ $(filter %.o,$^) $(LDLIBS_ALL)
 
 $(LIB_OBJ) $(CLI_OBJ) $(TEST_OBJ): $(GEN)/cflags.stamp
@@ -176,12 +189,74 @@ $(BUILD)/%.o: %.c
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
 
+# The firmware boundary at link time.  The GP/PP programs (FW_OBJ) are
+# partially linked into one object (ld -r resolves what they call in each
+# other); every symbol it still needs must be a function declared in a header
+# under emu/api/ (listed from GCC's -aux-info) or come from the C runtime
+# (libc, libm, libgcc; the sanitizer runtimes under SAN=1).  Anything else,
+# such as machine_send or a render/ function declared by hand, stops the
+# build with one line naming the symbol and the object that needs it.  `make
+# test` also shows that a probe doing exactly that is rejected.
+FW_PROBE     := tests/fixtures/boundary/gp_calls_machine_send.c
+RUNTIME_LIBS := libc.so.6 libm.so.6 libmvec.so.1 libgcc_s.so.1 \
+                $(if $(filter 1,$(SAN)),libasan.so libubsan.so)
+API_HEADERS  := $(sort $(wildcard emu/api/*.h))
+
+$(FW_CHECK)/api-symbols.txt: $(API_HEADERS) $(GEN)/cflags.stamp
+	@mkdir -p $(dir $@)
+	@printf '$(foreach h,$(API_HEADERS),#include "$(notdir $(h))"\n)' > $(FW_CHECK)/api.c
+	@$(CC) $(FW_CFLAGS) -fsyntax-only -aux-info $(FW_CHECK)/api.aux $(FW_CHECK)/api.c
+	@sed -n 's|^/\* emu/api/[^ ]* \*/ extern .*[ *]\([A-Za-z_][A-Za-z0-9_]*\) (.*|\1|p' \
+	    $(FW_CHECK)/api.aux | sort -u > $@.new
+	@grep -qx fw_send $@.new || { echo "firmware boundary: found no fw_send among emu/api/'s declarations"; exit 1; }
+	@mv $@.new $@
+
+$(FW_CHECK)/runtime-symbols.txt: $(GEN)/ldflags.stamp
+	@mkdir -p $(dir $@)
+	@{ for l in $(RUNTIME_LIBS); do f=$$($(CC) -print-file-name=$$l); \
+	     [ -e "$$f" ] && nm -D --defined-only "$$(readlink -f "$$f")"; done; \
+	   nm --defined-only "$$($(CC) -print-libgcc-file-name)"; } 2>/dev/null \
+	  | awk 'NF >= 3 {print $$3}' | sed 's/@.*//' | sort -u > $@.new
+	@grep -qx memcpy $@.new || { echo "firmware boundary: cannot list the C library's symbols"; exit 1; }
+	@mv $@.new $@
+
+$(FW_CHECK)/programs.o: $(FW_OBJ)
+	@mkdir -p $(dir $@)
+	ld -r -o $@ $^
+
+# $(call fw_boundary_check,PARTIAL,OBJECTS): one line per symbol that the
+# partial link PARTIAL needs and neither list allows, naming those of OBJECTS
+# that need it; false when there is any.
+define fw_boundary_check
+bad=0; for s in $$(nm -u $(1) | awk '{print $$NF}' | sed 's/@.*//' | sort -u); do \
+  grep -qxF "$$s" $(FW_CHECK)/api-symbols.txt $(FW_CHECK)/runtime-symbols.txt && continue; \
+  who=$$(for o in $(2); do nm -u $$o | awk '{print $$NF}' | grep -qxF "$$s" && echo $$o; done); \
+  echo "firmware boundary:" $$who "needs $$s, which no header under emu/api/ declares" \
+    "(firmware programs may call only the firmware API and the C library)"; bad=1; \
+done; test $$bad = 0
+endef
+
+$(FW_CHECK)/ok: $(FW_CHECK)/programs.o $(FW_CHECK)/api-symbols.txt $(FW_CHECK)/runtime-symbols.txt
+	@$(call fw_boundary_check,$<,$(FW_OBJ))
+	@touch $@
+
+fw-boundary-probe: $(FW_CHECK)/api-symbols.txt $(FW_CHECK)/runtime-symbols.txt
+	@$(CC) $(FW_CFLAGS) -c -o $(FW_CHECK)/probe.o $(FW_PROBE)
+	@ld -r -o $(FW_CHECK)/probe-partial.o $(FW_CHECK)/probe.o
+	@if ($(call fw_boundary_check,$(FW_CHECK)/probe-partial.o,$(FW_CHECK)/probe.o)) \
+	    > $(FW_CHECK)/probe.txt; then \
+	  echo "firmware boundary: the probe $(FW_PROBE) was accepted"; exit 1; fi
+	@grep -q "^firmware boundary: $(FW_CHECK)/probe.o needs machine_send, which no header" \
+	    $(FW_CHECK)/probe.txt || { echo "firmware boundary: the probe's message is not" \
+	    "the expected one:"; cat $(FW_CHECK)/probe.txt; exit 1; }
+	@echo "firmware boundary: $(FW_PROBE) is rejected, as it must be:"; sed 's/^/  /' $(FW_CHECK)/probe.txt
+
 # `make test` first makes sure the system packages are there, then re-enters
 # make so that the pkg-config probes above see them.
 test: deps-check
 	@$(MAKE) --no-print-directory test-run
 
-test-run: $(TEST_BIN) $(PP5_BIN)
+test-run: $(TEST_BIN) $(PP5_BIN) fw-boundary-probe
 	PP5_BIN=./$(PP5_BIN) $(TEST_BIN) $(TESTS)
 
 demo: deps-check

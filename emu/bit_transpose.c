@@ -19,32 +19,16 @@
  * repeated in both halves, and shifts by s < 32 under those masks never carry
  * bits between the halves.  Rows are plane words going in (row k = bit k of
  * 64 PPs), so coming out row j holds PP j (low half) and PP 32 + j (high). */
+#define PP_SIMD_KERNELS "bit_transpose_kernels.inc"
+#include "pp_simd_copies.inc"
+
 #if PP_HAVE_AVX2_COPY
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#define KN(name) name##_avx2
-#define VEC_BYTES 32
-#include "bit_transpose_kernels.inc"
-#undef KN
-#undef VEC_BYTES
-#pragma GCC pop_options
-#endif
-
-#define KN(name) name##_base
-#define VEC_BYTES 16
-#include "bit_transpose_kernels.inc"
-#undef KN
-#undef VEC_BYTES
-
 /* Host-speed choice only: both copies compute the same bits. */
 static bool use_avx2(void)
 {
-#if PP_HAVE_AVX2_COPY
     return __builtin_cpu_supports("avx2");
-#else
-    return false;
-#endif
 }
+#endif
 
 void bit_transpose_planes_to_words(const uint64_t *first, size_t plane_stride, unsigned bits,
                                    uint32_t *out)

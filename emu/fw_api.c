@@ -172,17 +172,8 @@ fw_status_t fw_send(gp_t *gp, ring_addr_t dst, uint32_t kind, const uint32_t arg
     if (payload_bytes > 0 && !payload) {
         return fw_fail(gp, "fw_send: %zu payload bytes but no payload", payload_bytes);
     }
-    ring_msg_t m;
-    memset(&m, 0, sizeof m);
-    m.src = ring_addr(RING_NODE_GP, gp->index);
-    m.dst = dst;
-    m.kind = kind;
-    m.cls = gp_class_for(dst, kind);
-    if (args) {
-        memcpy(m.args, args, sizeof m.args);
-    }
-    m.payload = payload;
-    m.payload_bytes = payload_bytes;
+    ring_msg_t m = ring_msg_make(ring_addr(RING_NODE_GP, gp->index), dst, kind,
+                                 gp_class_for(dst, kind), args, payload, payload_bytes);
     gp_charge_cycles(gp, gp->send_cycles);   /* [U] gp.send_cycles */
     pp5_status_t st = gp->send(gp->send_ctx, gp, &m, gp->local_ps);
     if (st != PP5_OK) {

@@ -152,11 +152,6 @@ static pp5_status_t gp_host_load(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now
     return gp_schedule(gp, now);
 }
 
-pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now)
-{
-    return gp_deliver_owned(gp, msg, NULL, now);
-}
-
 pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf, pp5_tick_t now)
 {
     gp->msgs_received++;

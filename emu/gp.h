@@ -98,10 +98,9 @@ pp5_status_t gp_init(gp_t *gp, unsigned index, const pp5_params_t *p, const fw_m
                      sched_t *sched, gp_send_fn send, void *send_ctx);
 void gp_free(gp_t *gp);
 void gp_set_program(gp_t *gp, const fw_program_t *prog);
-/* A ring message for this GP arrived at `now`. */
-pp5_status_t gp_deliver(gp_t *gp, const ring_msg_t *msg, pp5_tick_t now);
-/* The same, taking ownership of `payload_buf` (malloc'd, holding msg->payload's
- * bytes, e.g. from ring_take_payload) instead of copying; NULL: copy. */
+/* A ring message for this GP arrived at `now`.  The GP takes ownership of
+ * `payload_buf` (malloc'd, holding msg->payload's bytes, e.g. from
+ * ring_take_payload) instead of copying; NULL: it copies the payload. */
 pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf, pp5_tick_t now);
 /* Charge raw cycles (used by the firmware API for sends). */
 void gp_charge_cycles(gp_t *gp, uint64_t cycles);

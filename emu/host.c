@@ -26,15 +26,9 @@ pp5_status_t host_load_gp(host_t *h, unsigned gp, size_t image_bytes, const void
     if (data_bytes) {
         memcpy(buf + image_bytes, data, data_bytes);
     }
-    ring_msg_t m;
-    memset(&m, 0, sizeof m);
-    m.src = ring_addr(RING_NODE_HOST, 0);
-    m.dst = ring_addr(RING_NODE_GP, gp);
-    m.kind = RING_MSG_HOST_LOAD;
-    m.cls = RING_CLASS_HOST;
-    m.args[0] = (uint32_t)image_bytes;
-    m.payload = buf;
-    m.payload_bytes = total;
+    const uint32_t args[RING_MSG_ARGS] = {(uint32_t)image_bytes};
+    ring_msg_t m = ring_msg_make(ring_addr(RING_NODE_HOST, 0), ring_addr(RING_NODE_GP, gp),
+                                 RING_MSG_HOST_LOAD, RING_CLASS_HOST, args, buf, total);
     pp5_status_t st = h->send(h->send_ctx, &m, t);
     free(buf);
     if (st == PP5_OK) {
@@ -47,13 +41,9 @@ pp5_status_t host_load_gp(host_t *h, unsigned gp, size_t image_bytes, const void
 pp5_status_t host_start_frame(host_t *h, unsigned n_gp, uint32_t frame, pp5_tick_t t)
 {
     for (unsigned g = 0; g < n_gp; g++) {
-        ring_msg_t m;
-        memset(&m, 0, sizeof m);
-        m.src = ring_addr(RING_NODE_HOST, 0);
-        m.dst = ring_addr(RING_NODE_GP, g);
-        m.kind = RING_MSG_FRAME_START;
-        m.cls = RING_CLASS_HOST;
-        m.args[0] = frame;
+        const uint32_t args[RING_MSG_ARGS] = {frame};
+        ring_msg_t m = ring_msg_make(ring_addr(RING_NODE_HOST, 0), ring_addr(RING_NODE_GP, g),
+                                     RING_MSG_FRAME_START, RING_CLASS_HOST, args, NULL, 0);
         pp5_status_t st = h->send(h->send_ctx, &m, t);
         if (st != PP5_OK) {
             return st;

@@ -354,7 +354,7 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
     pp5_tick_t cbusy0[RING_CLASS_COUNT];
     memcpy(cbusy0, m->ring.busy_by_class, sizeof cbusy0);
     for (unsigned c = 0; c < m->ring.n_channels; c++) {
-        busy0[c] = m->ring.ch[c].busy_ticks;
+        busy0[c] = m->ring.ch[c].busy_ps;
     }
     memcpy(bytes0, m->ring.bytes_sent, sizeof bytes0);
     pp5_status_t st = host_start_frame(&m->host, m->n_gp, m->n_frames, start);
@@ -376,7 +376,7 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
         f->end_ps = end;
         f->stop = *stop;
         for (unsigned c = 0; c < m->ring.n_channels; c++) {
-            f->ch_busy_ps[c] = m->ring.ch[c].busy_ticks - busy0[c];
+            f->ch_busy_ps[c] = m->ring.ch[c].busy_ps - busy0[c];
         }
         for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
             f->bytes_by_class[k] = m->ring.bytes_sent[k] - bytes0[k];

@@ -12,13 +12,11 @@ static const param_info_t param_table[] = {
     { PARAM_KIND_##KIND, NAME, offsetof(pp5_params_t, FIELD), (double)(DEF), \
       (double)(MIN), (double)(MAX), UNIT, DESC, CITE },
 #include "params_machine.def"
-#ifdef PP5_HAVE_PP_PARAMS
 #undef PARAM
 #define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) \
     { PARAM_KIND_##KIND, NAME, offsetof(pp5_params_t, pp.FIELD), (double)(DEF), \
       (double)(MIN), (double)(MAX), UNIT, DESC, CITE },
 #include "pp_params.def"
-#endif
 #undef PARAM
 };
 

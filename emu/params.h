@@ -2,9 +2,9 @@
  *
  * Every hardware constant of the emulator is one row (STYLE L5), with value,
  * unit, description and a certainty tag + citation of
- * ../shared/docs/pxpl5-facts.md.  emu-core's rows are in params_machine.def,
- * emu-pp's renderer/PP rows in pp_params.def (fields of pp_params_t, stored
- * in pp5_params_t.pp).  Parsing is validate-then-commit: a failing --set or
+ * ../shared/docs/pxpl5-facts.md.  The machine's rows are in
+ * params_machine.def, the renderer/PP rows in pp_params.def (fields of
+ * pp_params_t, stored in pp5_params_t.pp).  Parsing is validate-then-commit: a failing --set or
  * --config leaves the parameters unchanged, and the message names the
  * parameter, the bad value and the allowed range. */
 #ifndef PP5_PARAMS_H
@@ -14,18 +14,9 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
-#include "util/status.h"
-#include "util/json.h"
-
-#if defined(__has_include)
-#if __has_include("pp_params.h")
 #include "pp_params.h"
-#define PP5_HAVE_PP_PARAMS 1
-#endif
-#endif
-#ifndef PP5_HAVE_PP_PARAMS
-typedef struct { int unused; } pp_params_t;   /* until emu-pp's pp_params.h exists */
-#endif
+#include "util/json.h"
+#include "util/status.h"
 
 #define PARAM_CTYPE_U32 uint32_t
 #define PARAM_CTYPE_U64 uint64_t
@@ -35,7 +26,7 @@ typedef struct {
 #define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) PARAM_CTYPE_##KIND FIELD;
 #include "params_machine.def"
 #undef PARAM
-    pp_params_t pp;       /* emu-pp's rows (pp_params.def) */
+    pp_params_t pp;       /* the renderer/PP rows (pp_params.def) */
 } pp5_params_t;
 
 typedef enum { PARAM_KIND_U32, PARAM_KIND_U64, PARAM_KIND_F64 } param_kind_t;

@@ -70,11 +70,6 @@ pp5_status_t sched_at(sched_t *s, pp5_tick_t when, uint32_t priority, sched_fn f
     return PP5_OK;
 }
 
-size_t sched_pending(const sched_t *s)
-{
-    return s->count;
-}
-
 pp5_tick_t sched_next_time(const sched_t *s)
 {
     return s->count ? s->heap[0].when : PP5_TICK_MAX;

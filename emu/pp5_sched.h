@@ -1,4 +1,4 @@
-/* pp5_sched.h (not sched.h: -Iemu would shadow the system <sched.h> that <pthread.h> includes): the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
+/* pp5_sched.h: the event queue: a binary heap ordered by (when, priority, seq), bounded runs with stop reasons.
  *
  * Events exist only at interactions between units (a ring message arriving,
  * a renderer finishing a command, a GP ready for its next message); between
@@ -65,7 +65,6 @@ const char *sched_stop_name(sched_stop_t r);
  * violation). */
 pp5_status_t sched_at(sched_t *s, pp5_tick_t when, uint32_t priority, sched_fn fn, void *ctx,
                       uint64_t arg);
-size_t sched_pending(const sched_t *s);
 /* Time of the next event, or PP5_TICK_MAX when empty. */
 pp5_tick_t sched_next_time(const sched_t *s);
 

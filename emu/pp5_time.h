@@ -1,4 +1,4 @@
-/* pp5_time.h (not time.h: -Iemu would shadow the system <time.h>): pp5's single time base (integer picoseconds) and clock-domain helpers.
+/* pp5_time.h: pp5's single time base (integer picoseconds) and clock-domain helpers.
  *
  * Every unit counts emulated time in pp5_tick_t = picoseconds (STYLE L3).
  * 2^64 ps is about 213 days of emulated time, far beyond any run.  Each clock

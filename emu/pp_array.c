@@ -89,22 +89,8 @@ typedef struct {
     unsigned d, n, shift;
 } qee_ctx_t;
 
-#if PP_HAVE_AVX2_COPY
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#define KN(name) name##_avx2
-#define VEC_BYTES 32
-#include "pp_kernels.inc"
-#undef KN
-#undef VEC_BYTES
-#pragma GCC pop_options
-#endif
-
-#define KN(name) name##_base
-#define VEC_BYTES 16
-#include "pp_kernels.inc"
-#undef KN
-#undef VEC_BYTES
+#define PP_SIMD_KERNELS "pp_kernels.inc"
+#include "pp_simd_copies.inc"
 
 /* Calls the AVX2 copy of a kernel when this array may use it, else the base copy. */
 #if PP_HAVE_AVX2_COPY

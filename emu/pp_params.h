@@ -1,6 +1,6 @@
 /* pp_params.h: pp_params_t, the renderer/PP rows of the parameter table (pp_params.def).
  *
- * changed: added PP_PLANE_WORDS (seam with emu-core, change only additively) */
+ * The build-time sizes of the PP array and its memories come with it. */
 #ifndef PP5_PP_PARAMS_H
 #define PP5_PP_PARAMS_H
 

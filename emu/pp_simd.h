@@ -1,12 +1,12 @@
-/* pp_simd.h: build switches shared by the bit-sliced kernels (pp_array.c, qee.c).
+/* pp_simd.h: build switches shared by the bit-sliced kernels (pp_array.c, qee.c, bit_transpose.c).
  *
- * The kernels (pp_kernels.inc, qee_kernels.inc) are compiled twice: with
- * 32-byte GCC vectors under `#pragma GCC target("avx2")` (names *_avx2) and
- * with 16-byte vectors that any x86-64 (SSE2) or other host handles well
- * (names *_base); each PP array picks one at run time (pp_array_set_avx2).
- * Only bitwise operations are used, so both copies compute the same bits:
- * results never depend on the host.  pp_vec.inc defines the vector helpers of
- * one copy. */
+ * The kernels (pp_kernels.inc, qee_kernels.inc, bit_transpose_kernels.inc)
+ * are compiled twice by pp_simd_copies.inc: with 32-byte GCC vectors under
+ * `#pragma GCC target("avx2")` (names *_avx2) and with 16-byte vectors that
+ * any x86-64 (SSE2) or other host handles well (names *_base); each PP array
+ * picks one at run time (pp_array_set_avx2).  Only bitwise operations are
+ * used, so both copies compute the same bits: results never depend on the
+ * host.  pp_vec.inc defines the vector helpers of one copy. */
 #ifndef PP5_PP_SIMD_H
 #define PP5_PP_SIMD_H
 

@@ -113,22 +113,8 @@ static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
         }
 }
 
-#if PP_HAVE_AVX2_COPY
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#define KN(name) name##_avx2
-#define VEC_BYTES 32
-#include "qee_kernels.inc"
-#undef KN
-#undef VEC_BYTES
-#pragma GCC pop_options
-#endif
-
-#define KN(name) name##_base
-#define VEC_BYTES 16
-#include "qee_kernels.inc"
-#undef KN
-#undef VEC_BYTES
+#define PP_SIMD_KERNELS "qee_kernels.inc"
+#include "pp_simd_copies.inc"
 
 #if PP_HAVE_AVX2_COPY
 #define KCALL(avx2, fn, ...) ((avx2) ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))

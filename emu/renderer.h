@@ -78,7 +78,7 @@ void renderer_set_region(renderer_t *r, int x0, int y0);
 pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_words,
                               renderer_exec_result_t *res);
 
-/* Functional access for the ring port (cost charged by emu-core): an n-bit field
+/* Functional access for the ring port (its cost is charged by renderer_node.c): an n-bit field
  * (1 <= bits <= 32, addr + bits <= 208) of all 16384 PPs, row-major (128 per
  * row), unsigned, bit 0 = the bit at addr.  Not masked by E. */
 pp5_status_t renderer_read_field(const renderer_t *r, unsigned addr, unsigned bits, uint32_t *out);

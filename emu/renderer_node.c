@@ -89,13 +89,8 @@ static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint3
     if (data) {
         memcpy(it->reply_payload, data, bytes);
     }
-    memset(&it->reply, 0, sizeof it->reply);
-    it->reply.src = ring_addr(RING_NODE_RENDERER, n->index);
-    it->reply.dst = ring_addr_unpack(reply_to);
-    it->reply.kind = kind;
-    it->reply.cls = cls;
-    it->reply.payload = it->reply_payload;
-    it->reply.payload_bytes = bytes;
+    it->reply = ring_msg_make(ring_addr(RING_NODE_RENDERER, n->index), ring_addr_unpack(reply_to),
+                              kind, cls, NULL, it->reply_payload, bytes);
     it->has_reply = true;
     return PP5_OK;
 }

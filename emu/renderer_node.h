@@ -1,4 +1,4 @@
-/* renderer_node.h: a renderer's ring port and controller around emu-pp's renderer_t.
+/* renderer_node.h: a renderer's ring port and controller around the PP array's renderer_t (renderer.h).
  *
  * Incoming RENDERER_* messages queue in an instruction FIFO (unbounded [U]:
  * facts §3.4, the controller design is unknown) and execute one after another

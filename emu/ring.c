@@ -187,7 +187,7 @@ static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
         dp->rx_free_at[rx] = arrival;
     }
     ch->free_at = end;
-    ch->busy_ticks += ser;
+    ch->busy_ps += ser;
     ch->bytes += wire;
     ch->messages++;
     ch->bytes_by_class[f->msg.cls] += wire;
@@ -284,15 +284,6 @@ uint64_t ring_total_bytes_sent(const ring_t *r)
     uint64_t sum = 0;
     for (unsigned c = 0; c < RING_CLASS_COUNT; c++) {
         sum += r->bytes_sent[c];
-    }
-    return sum;
-}
-
-pp5_tick_t ring_total_busy_ticks(const ring_t *r)
-{
-    pp5_tick_t sum = 0;
-    for (unsigned c = 0; c < r->n_channels; c++) {
-        sum += r->ch[c].busy_ticks;
     }
     return sum;
 }

@@ -43,7 +43,7 @@
 
 typedef struct {
     pp5_tick_t free_at;
-    pp5_tick_t busy_ticks;
+    pp5_tick_t busy_ps;                           /* time the channel carried data */
     uint64_t bytes;                               /* wire bytes incl. headers */
     uint64_t messages;
     uint64_t bytes_by_class[RING_CLASS_COUNT];
@@ -128,7 +128,6 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
 pp5_status_t ring_set_rx_ports(ring_t *r, unsigned pos, unsigned ports);
 
 uint64_t ring_total_bytes_sent(const ring_t *r);
-pp5_tick_t ring_total_busy_ticks(const ring_t *r);
 /* Messages still in flight. */
 size_t ring_in_flight(const ring_t *r);
 

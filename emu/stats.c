@@ -254,7 +254,7 @@ static pp5_status_t collect_ring(stats_t *s, const machine_t *m)
         const ring_channel_t *ch = &rg->ch[c];
         COUNTER((double)ch->bytes, "bytes", "wire bytes (headers included)", "ring.by_channel.%u.bytes", c);
         COUNTER((double)ch->messages, "count", "messages", "ring.by_channel.%u.messages", c);
-        COUNTER(ticks_to_s(ch->busy_ticks), "s", "time carrying data (whole run, load included)", "ring.by_channel.%u.busy_s", c);
+        COUNTER(ticks_to_s(ch->busy_ps), "s", "time carrying data (whole run, load included)", "ring.by_channel.%u.busy_s", c);
         FORMULA(stats_ring_channel_utilization(m, c), "fraction", "busy time inside frames / frame time",
                 "ring.by_channel.%u.utilization", c);
     }

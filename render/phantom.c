@@ -1,7 +1,7 @@
 /* phantom.c: procedural test volumes: the 3D Shepp-Logan head, Marschner-Lobb,
  * and a sphere shell.
  *
- * VALUE RANGES (for whoever writes transfer functions; render-core's presets):
+ * VALUE RANGES (for transfer functions, such as the presets in classify.c):
  *  - "shepp-logan": 0..200, "MR-like" 8-bit-style units chosen to sit in the
  *    same range as the brainsmall MR data (0..202).  Air 0, outer skull/scalp
  *    shell 200, brain 40, ventricles 0 (dark holes inside the brain), lesions

@@ -66,7 +66,7 @@ pp5_status_t phantom_make(const char *name, int nx, int ny, int nz, volume_t *ou
 const char *phantom_names(void);
 
 
-/* ---- Added by render-io (declarations above are unchanged). ---- */
+/* ---- Voxel types, raw layouts, writers, file info, option parsing, hashing ---- */
 #include <stddef.h>
 
 size_t volume_voxel_count(const volume_t *v);

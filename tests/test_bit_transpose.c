@@ -65,12 +65,11 @@ TEST(bit_transpose_backing_all_blocks)
     for (unsigned k = 0; k < PP_BS_BITS; k++)
         for (unsigned w = 0; w < PP_PLANE_WORDS; w++)
             b->plane[k][w] = next_random(&s);
-    unsigned read_bad = 0, write_bad = 0;
     for (unsigned blk = 0; blk < PP_BS_BLOCKS; blk++) {
         backing_read_block(b, blk, words);
-        read_bad += count_word_mismatches(backing_plane(b, blk, 0), PP_PLANE_WORDS, 32, words);
+        unsigned bad = count_word_mismatches(backing_plane(b, blk, 0), PP_PLANE_WORDS, 32, words);
+        CHECK_MSG(bad == 0, "read of block %u: %u PPs' words wrong", blk, bad);
     }
-    CHECK_EQ(read_bad, 0);
     for (unsigned blk = 0; blk < PP_BS_BLOCKS; blk++) {
         for (unsigned p = 0; p < PP_COUNT; p++)
             words[p] = (uint32_t)next_random(&s);
@@ -80,10 +79,11 @@ TEST(bit_transpose_backing_all_blocks)
         unsigned n_planes = (last - first + 1) * 32;
         memcpy(before, backing_plane(b, first, 0), n_planes * PP_PLANE_WORDS * sizeof *before);
         backing_write_block(b, blk, words);
-        write_bad += count_plane_mismatches(backing_plane(b, first, 0), before, PP_PLANE_WORDS,
-                                            n_planes, (blk - first) * 32, 32, words);
+        unsigned bad = count_plane_mismatches(backing_plane(b, first, 0), before, PP_PLANE_WORDS,
+                                              n_planes, (blk - first) * 32, 32, words);
+        CHECK_MSG(bad == 0, "write of block %u: %u plane bits wrong (blocks %u..%u)", blk, bad,
+                  first, last);
     }
-    CHECK_EQ(write_bad, 0);
     free(before);
     free(words);
     backing_free(b);
@@ -102,30 +102,39 @@ TEST(bit_transpose_fields_all_widths_offsets)
         for (unsigned w = 0; w < PP_PLANE_WORDS; w++)
             a->mem[k][w] = next_random(&s);
     /* Even, odd and end-of-memory offsets for every width 1..32. */
-    unsigned read_bad = 0, write_bad = 0, cases = 0;
+    unsigned cases = 0;
     for (unsigned bits = 1; bits <= 32; bits++) {
         const unsigned addrs[4] = {0, 1 + 2 * (bits % 7), 97 + 2 * bits, PP_MEM_BITS - bits};
         for (unsigned i = 0; i < 4; i++) {
             unsigned addr = addrs[i];
             REQUIRE(addr + bits <= PP_MEM_BITS);
             pp_array_read_field(a, addr, bits, words);
-            read_bad += count_word_mismatches(a->mem[addr], stride, bits, words);
+            unsigned bad = count_word_mismatches(a->mem[addr], stride, bits, words);
+            CHECK_MSG(bad == 0, "read of %u bits at %u: %u PPs' words wrong", bits, addr, bad);
             /* Random words with garbage above `bits`, which the write must ignore. */
             for (unsigned p = 0; p < PP_COUNT; p++)
                 words[p] = (uint32_t)next_random(&s);
             memcpy(before, a->mem, sizeof a->mem);
             pp_array_write_field(a, addr, bits, words);
-            write_bad += count_plane_mismatches(a->mem[0], before, stride, PP_MEM_BITS, addr,
-                                                bits, words);
+            bad = count_plane_mismatches(a->mem[0], before, stride, PP_MEM_BITS, addr, bits,
+                                         words);
+            CHECK_MSG(bad == 0, "write of %u bits at %u: %u plane bits wrong", bits, addr, bad);
             cases++;
         }
     }
     CHECK_EQ(cases, 128);
-    CHECK_EQ(read_bad, 0);
-    CHECK_EQ(write_bad, 0);
     free(before);
     free(words);
     pp_array_free(a);
+}
+
+/* The first PP p whose word is not p & mask, or -1. */
+static int first_wrong_word(const uint32_t *words, uint32_t mask)
+{
+    for (unsigned p = 0; p < PP_COUNT; p++)
+        if (words[p] != (p & mask))
+            return (int)p;
+    return -1;
 }
 
 /* A hand-made case: PP p holds p in a 14-bit field, so plane k is the pattern of
@@ -144,16 +153,12 @@ TEST(bit_transpose_index_pattern)
     uint32_t *words = malloc(PP_COUNT * sizeof *words);
     REQUIRE(words);
     bit_transpose_planes_to_words(planes[0], PP_PLANE_WORDS, 14, words);
-    unsigned bad = 0;
-    for (unsigned p = 0; p < PP_COUNT; p++)
-        bad += words[p] != p;
-    CHECK_EQ(bad, 0);
+    int bad = first_wrong_word(words, 0x3fffu);
+    CHECK_MSG(bad < 0, "14 bits: PP %d reads %u", bad, bad < 0 ? 0 : words[bad]);
     /* Width 5 keeps only the low 5 bits of the index. */
     bit_transpose_planes_to_words(planes[0], PP_PLANE_WORDS, 5, words);
-    bad = 0;
-    for (unsigned p = 0; p < PP_COUNT; p++)
-        bad += words[p] != (p & 31u);
-    CHECK_EQ(bad, 0);
+    bad = first_wrong_word(words, 31u);
+    CHECK_MSG(bad < 0, "5 bits: PP %d reads %u", bad, bad < 0 ? 0 : words[bad]);
     free(words);
 }
 
@@ -169,19 +174,18 @@ TEST(bit_transpose_portable_kernels)
     uint64_t s = 0xfeedfacecafebeefull;
     for (size_t i = 0; i < 33 * stride; i++)
         planes[i] = next_random(&s);
-    unsigned read_bad = 0, write_bad = 0;
     for (unsigned bits = 1; bits <= 32; bits++) {
         unsigned lo = bits & 1u;                         /* odd first plane for odd widths */
         bit_transpose_planes_to_words_portable(planes + lo * stride, stride, bits, words);
-        read_bad += count_word_mismatches(planes + lo * stride, stride, bits, words);
+        unsigned bad = count_word_mismatches(planes + lo * stride, stride, bits, words);
+        CHECK_MSG(bad == 0, "portable read of %u bits: %u PPs' words wrong", bits, bad);
         for (unsigned p = 0; p < PP_COUNT; p++)
             words[p] = (uint32_t)next_random(&s);
         memcpy(before, planes, 33 * stride * sizeof *planes);
         bit_transpose_words_to_planes_portable(words, bits, planes + lo * stride, stride);
-        write_bad += count_plane_mismatches(planes, before, stride, 33, lo, bits, words);
+        bad = count_plane_mismatches(planes, before, stride, 33, lo, bits, words);
+        CHECK_MSG(bad == 0, "portable write of %u bits: %u plane bits wrong", bits, bad);
     }
-    CHECK_EQ(read_bad, 0);
-    CHECK_EQ(write_bad, 0);
     free(words);
     free(before);
     free(planes);

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "harness.h"
-#include "firmware/testpattern_gp.h"
+#include "firmware/common/testpattern_gp.h"
 #include "machine.h"
 #include "pp_encode.h"
 #include "report.h"
@@ -57,21 +57,25 @@ static pp5_status_t run_pattern(machine_t *m, const pp5_params_t *p, sched_stop_
     return st;
 }
 
-static size_t count_mismatches(const machine_t *m)
+/* Compares the frame buffer with the native reference: one check, naming
+ * how many bytes differ and the first pixel that does. */
+static void check_image_matches_reference(const machine_t *m)
 {
     unsigned w = m->params.fb_width, h = m->params.fb_height;
     uint8_t *ref = malloc((size_t)w * h * 3);
-    if (!ref) {
-        return (size_t)-1;
-    }
+    REQUIRE(ref);
     reference_pattern(w, h, ref);
     const image8_t *img = fb_front(&m->fb);
-    size_t bad = 0;
+    size_t bad = 0, first = 0;
     for (size_t i = 0; i < (size_t)w * h * 3; i++) {
-        bad += img->pixels[i] != ref[i];
+        if (img->pixels[i] != ref[i] && bad++ == 0) {
+            first = i;
+        }
     }
+    CHECK_MSG(bad == 0, "%zu of %zu bytes differ from the reference; first: pixel (%zu, %zu) "
+              "channel %zu is %u, want %u", bad, (size_t)w * h * 3, first / 3 % w, first / 3 / w,
+              first % 3, img->pixels[first], ref[first]);
     free(ref);
-    return bad;
 }
 
 static void small_params(pp5_params_t *p)
@@ -93,7 +97,7 @@ TEST(machine_test_pattern_matches_native_reference_small)
     REQUIRE_MSG(st == PP5_OK, "run failed: %s", pp5_error_text());
     CHECK_EQ(why, SCHED_STOP_IDLE);
     CHECK_EQ(m.fb.blocks_received, 6);
-    CHECK_EQ(count_mismatches(&m), 0);
+    check_image_matches_reference(&m);
     /* Conservation: every byte sent was delivered, per class. */
     for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
         CHECK_EQ(m.ring.bytes_sent[k], m.ring.bytes_delivered[k]);
@@ -144,7 +148,7 @@ static void check_hand_calculation(const char *preset)
     double t = stats_frame_time_s(&m);
     CHECK_MSG(t >= t_hand, "%s: frame %.9f s below the lower bound %.9f s", preset, t, t_hand);
     CHECK_MSG(t <= t_hand * 1.02, "%s: frame %.9f s more than 2%% above the hand value %.9f s", preset, t, t_hand);
-    CHECK_EQ(count_mismatches(&m), 0);
+    check_image_matches_reference(&m);
     machine_free(&m);
 }
 
@@ -168,17 +172,24 @@ TEST(machine_runs_are_deterministic)
     REQUIRE(run_pattern(&b, &p, &why) == PP5_OK);
     CHECK_EQ(a.frames[0].end_ps - a.frames[0].start_ps, b.frames[0].end_ps - b.frames[0].start_ps);
     CHECK_EQ(a.sched.events_run, b.sched.events_run);
-    int same = 1;
     for (unsigned i = 0; i < a.n_rn; i++) {
-        same &= a.rn[i].cycles == b.rn[i].cycles && a.rn[i].busy_ps == b.rn[i].busy_ps;
+        CHECK_MSG(a.rn[i].cycles == b.rn[i].cycles, "renderer %u cycles: %llu then %llu", i,
+                  (unsigned long long)a.rn[i].cycles, (unsigned long long)b.rn[i].cycles);
+        CHECK_MSG(a.rn[i].busy_ps == b.rn[i].busy_ps, "renderer %u busy_ps: %llu then %llu", i,
+                  (unsigned long long)a.rn[i].busy_ps, (unsigned long long)b.rn[i].busy_ps);
     }
     for (unsigned i = 0; i < a.n_gp; i++) {
-        same &= a.gp[i].busy_cycles == b.gp[i].busy_cycles;
+        CHECK_MSG(a.gp[i].busy_cycles == b.gp[i].busy_cycles, "GP %u busy cycles: %llu then %llu",
+                  i, (unsigned long long)a.gp[i].busy_cycles,
+                  (unsigned long long)b.gp[i].busy_cycles);
     }
     for (unsigned c = 0; c < a.ring.n_channels; c++) {
-        same &= a.ring.ch[c].bytes == b.ring.ch[c].bytes && a.ring.ch[c].busy_ticks == b.ring.ch[c].busy_ticks;
+        CHECK_MSG(a.ring.ch[c].bytes == b.ring.ch[c].bytes, "ring channel %u bytes: %llu then %llu",
+                  c, (unsigned long long)a.ring.ch[c].bytes, (unsigned long long)b.ring.ch[c].bytes);
+        CHECK_MSG(a.ring.ch[c].busy_ps == b.ring.ch[c].busy_ps,
+                  "ring channel %u busy_ps: %llu then %llu", c,
+                  (unsigned long long)a.ring.ch[c].busy_ps, (unsigned long long)b.ring.ch[c].busy_ps);
     }
-    CHECK(same);
     CHECK(memcmp(fb_front(&a.fb)->pixels, fb_front(&b.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
     machine_free(&a);
     machine_free(&b);
@@ -208,12 +219,12 @@ TEST(machine_more_gps_than_renderers_and_fewer)
     machine_t m;
     sched_stop_t why;
     REQUIRE(run_pattern(&m, &p, &why) == PP5_OK);
-    CHECK_EQ(count_mismatches(&m), 0);
+    check_image_matches_reference(&m);
     machine_free(&m);
     p.n_gp = 5;
     p.n_renderers = 1;           /* four idle GPs, one renderer does all 6 regions */
     REQUIRE(run_pattern(&m, &p, &why) == PP5_OK);
-    CHECK_EQ(count_mismatches(&m), 0);
+    check_image_matches_reference(&m);
     CHECK_EQ(m.rn[0].messages, 18);
     machine_free(&m);
 }
@@ -277,7 +288,10 @@ TEST(machine_bad_options_fail_cleanly)
 /* ---- renderer data paths: WRITE_FIELD, EXEC, READ_FIELD, WRITE_BS, READ_BS ---- */
 
 static uint32_t g_words[PP_COUNT];
-static int g_replies, g_field_ok, g_bs_ok;
+static int g_replies;
+/* Per reply: the first PP whose word is wrong, -1 when all are right, -2
+ * before the reply came. */
+static long g_field_bad, g_bs_bad;
 
 static fw_status_t io_message(gp_t *gp, const ring_msg_t *msg)
 {
@@ -313,14 +327,15 @@ static fw_status_t io_message(gp_t *gp, const ring_msg_t *msg)
     }
     if (msg->kind == RING_MSG_RENDERER_DATA && msg->payload_bytes == sizeof g_words) {
         const uint32_t *v = msg->payload;
-        int ok = 1;
-        for (uint32_t i = 0; i < PP_COUNT; i++) {
-            ok &= v[i] == (msg->args[0] == 42 ? ((g_words[i] + 5u) & 0xffffu) : g_words[i]);
+        long bad = -1;
+        for (uint32_t i = 0; i < PP_COUNT && bad < 0; i++) {
+            if (v[i] != (msg->args[0] == 42 ? ((g_words[i] + 5u) & 0xffffu) : g_words[i]))
+                bad = i;
         }
         if (msg->args[0] == 42) {
-            g_field_ok = ok;
+            g_field_bad = bad;
         } else if (msg->args[0] == 43) {
-            g_bs_ok = ok;
+            g_bs_bad = bad;
         }
         g_replies++;
         return FW_OK;
@@ -344,12 +359,14 @@ TEST(machine_renderer_field_and_backing_store_round_trip)
     sched_stop_t why;
     pp5_status_t st = machine_run_setup(&m, &why);
     REQUIRE(st == PP5_OK);
-    g_replies = g_field_ok = g_bs_ok = 0;
+    g_replies = 0;
+    g_field_bad = g_bs_bad = -2;
     st = machine_run_frame(&m, &why);
     REQUIRE_MSG(st == PP5_OK, "frame failed: %s", pp5_error_text());
     CHECK_EQ(g_replies, 2);
-    CHECK(g_field_ok);
-    CHECK(g_bs_ok);
+    CHECK_MSG(g_field_bad == -1, "READ_FIELD reply (field + 5): first wrong PP %ld (-2: none came)",
+              g_field_bad);
+    CHECK_MSG(g_bs_bad == -1, "READ_BS reply: first wrong PP %ld (-2: none came)", g_bs_bad);
     /* Port cycles: write 16 + read 16 bit-planes, write + read one 32-bit block. */
     CHECK_EQ(m.rn[0].port_cycles, (16 + 16 + 32 + 32) * p.rport_cycles_per_bit);
     /* DATA class: two 64 KiB writes from the GP and two 64 KiB replies. */
@@ -479,7 +496,7 @@ TEST(machine_results_identical_for_1_2_and_4_host_threads)
     machine_t ref;
     sched_stop_t why;
     REQUIRE(run_pattern(&ref, &p, &why) == PP5_OK);
-    CHECK_EQ(count_mismatches(&ref), 0);
+    check_image_matches_reference(&ref);
     unsigned counts[] = { 2, 4 };
     for (size_t k = 0; k < 2; k++) {
         p.sim_host_threads = counts[k];
@@ -488,15 +505,20 @@ TEST(machine_results_identical_for_1_2_and_4_host_threads)
         CHECK(m.pool_running);
         CHECK_EQ(m.frames[0].end_ps - m.frames[0].start_ps, ref.frames[0].end_ps - ref.frames[0].start_ps);
         CHECK_EQ(m.sched.events_run, ref.sched.events_run);
-        int same = 1;
+        unsigned t = counts[k];
         for (unsigned i = 0; i < m.n_rn; i++) {
-            same &= m.rn[i].cycles == ref.rn[i].cycles && m.rn[i].busy_ps == ref.rn[i].busy_ps &&
-                    m.rn[i].r.stats.instructions == ref.rn[i].r.stats.instructions;
+            CHECK_MSG(m.rn[i].cycles == ref.rn[i].cycles, "%u threads: renderer %u cycles differ", t, i);
+            CHECK_MSG(m.rn[i].busy_ps == ref.rn[i].busy_ps, "%u threads: renderer %u busy_ps differs",
+                      t, i);
+            CHECK_MSG(m.rn[i].r.stats.instructions == ref.rn[i].r.stats.instructions,
+                      "%u threads: renderer %u instruction count differs", t, i);
         }
         for (unsigned c = 0; c < m.ring.n_channels; c++) {
-            same &= m.ring.ch[c].busy_ticks == ref.ring.ch[c].busy_ticks && m.ring.ch[c].bytes == ref.ring.ch[c].bytes;
+            CHECK_MSG(m.ring.ch[c].busy_ps == ref.ring.ch[c].busy_ps,
+                      "%u threads: ring channel %u busy_ps differs", t, c);
+            CHECK_MSG(m.ring.ch[c].bytes == ref.ring.ch[c].bytes,
+                      "%u threads: ring channel %u bytes differ", t, c);
         }
-        CHECK_MSG(same, "%u threads: cycle or ring counters differ", counts[k]);
         CHECK(memcmp(fb_front(&m.fb)->pixels, fb_front(&ref.fb)->pixels, (size_t)p.fb_width * p.fb_height * 3) == 0);
         machine_free(&m);
     }

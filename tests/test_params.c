@@ -36,16 +36,16 @@ TEST(params_every_row_is_cited_and_its_default_in_range)
 {
     pp5_params_t p;
     pp5_params_default(&p);
-    int ok = 1;
     for (size_t i = 0; i < params_count(); i++) {
         const param_info_t *r = params_info(i);
         double v = params_get(&p, r);
-        ok &= v >= r->min && v <= r->max;
-        ok &= r->citation && strlen(r->citation) > 3 && r->unit && r->description;
+        CHECK_MSG(v >= r->min && v <= r->max, "%s: default %g outside %g..%g", r->name, v, r->min,
+                  r->max);
+        CHECK_MSG(r->citation && strlen(r->citation) > 3 && r->unit && r->description,
+                  "%s: needs a citation, a unit and a description", r->name);
         /* names are unique */
-        ok &= params_find(r->name) == r;
+        CHECK_MSG(params_find(r->name) == r, "%s: another row has the same name", r->name);
     }
-    CHECK(ok);
     CHECK(params_count() >= 20);
 }
 

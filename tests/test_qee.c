@@ -170,18 +170,19 @@ TEST(qee_respects_enable)
     uint32_t *v = malloc(PP_COUNT * sizeof *v);
     REQUIRE(v);
     renderer_read_field(r, 40, 8, v);
-    unsigned bad = 0;
-    for (unsigned p = 0; p < PP_COUNT; p++)
-        bad += v[p] != ((p % 2) ? 5u : 0u);
+    unsigned p = 0;
+    while (p < PP_COUNT && v[p] == ((p % 2) ? 5u : 0u))
+        p++;
+    CHECK_MSG(p == PP_COUNT, "PP %u (column %u) holds %u", p, p % PP_ARRAY_DIM,
+              p < PP_COUNT ? v[p] : 0);
     free(v);
-    CHECK_EQ(bad, 0);
 }
 
 TEST(qee_serial_adder_matches_direct_formula)
 {
     /* The reference executor's bit-serial adder vs qee_value, random points. */
     uint64_t s = 12345;
-    unsigned bad = 0;
+    int wrong_value = -1, wrong_sign = -1;      /* the first failing point of each kind */
     for (int t = 0; t < 2000; t++) {
         s ^= s << 13; s ^= s >> 7; s ^= s << 17;
         qee_coeffs_t q = {(int32_t)s, (int32_t)(s >> 32), (int32_t)(s >> 16), (int32_t)(s * 3),
@@ -193,10 +194,13 @@ TEST(qee_serial_adder_matches_direct_formula)
         uint64_t got = 0;
         for (unsigned k = 0; k < 64; k++)
             got |= (uint64_t)qee_serial_next_bit(&ser) << k;
-        bad += got != (uint64_t)v;
-        bad += qee_serial_next_bit(&ser) != ((uint64_t)v >> 63);   /* sign extension */
+        if (got != (uint64_t)v && wrong_value < 0)
+            wrong_value = t;
+        if (qee_serial_next_bit(&ser) != ((uint64_t)v >> 63) && wrong_sign < 0)
+            wrong_sign = t;       /* bit 64 must repeat the sign */
     }
-    CHECK_EQ(bad, 0);
+    CHECK_MSG(wrong_value < 0, "point %d: the 64 serial bits differ from qee_value", wrong_value);
+    CHECK_MSG(wrong_sign < 0, "point %d: the bit after bit 63 is not the sign", wrong_sign);
 }
 
 TEST(qee_origin_outside_exact_range_is_a_firmware_error)

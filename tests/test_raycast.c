@@ -237,13 +237,14 @@ TEST(raycast_batch_matches_single_rays_bit_for_bit)
             }
             raycast_counts_t cb = {0}, cs = {0};
             raycast_trace_batch(&ctx, RAYCAST_BATCH, px, py, level, batch, &cb);
-            int same = 1;
             for (int i = 0; i < RAYCAST_BATCH; i++) {
                 float one[3];
                 raycast_trace(&ctx, px[i], py[i], level, one, &cs);
-                same &= memcmp(one, batch[i], sizeof one) == 0;
+                CHECK_MSG(memcmp(one, batch[i], sizeof one) == 0,
+                          "level %d, ray %d at (%g, %g): batch (%g, %g, %g), alone (%g, %g, %g)",
+                          level, i, px[i], py[i], batch[i][0], batch[i][1], batch[i][2], one[0],
+                          one[1], one[2]);
             }
-            CHECK(same);
             CHECK_EQ(cb.rays, cs.rays);
             CHECK_EQ(cb.samples, cs.samples);
             CHECK_EQ(cb.samples_skipped, cs.samples_skipped);

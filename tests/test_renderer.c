@@ -136,13 +136,16 @@ TEST(renderer_backing_store_round_trip_under_enable)
     REQUIRE(run(r, &s, NULL) == PP5_OK);
     pp_stream_free(&s);
     REQUIRE(renderer_bs_read(r, 77, w) == PP5_OK);
-    unsigned bad = 0;
-    for (unsigned p = 0; p < PP_COUNT; p++)
-        bad += w[p] != v[p];
+    unsigned p = 0;
+    while (p < PP_COUNT && w[p] == v[p])
+        p++;
+    CHECK_MSG(p == PP_COUNT, "BSSTORE (all PPs): block 77 of PP %u holds 0x%x, want 0x%x", p,
+              p < PP_COUNT ? w[p] : 0, p < PP_COUNT ? v[p] : 0);
     REQUIRE(renderer_read_field(r, 128, 32, w) == PP5_OK);
-    for (unsigned p = 0; p < PP_COUNT; p++)
-        bad += w[p] != ((v[p] & 1u) ? v[p] : 0u);
-    CHECK_EQ(bad, 0);
+    for (p = 0; p < PP_COUNT && w[p] == ((v[p] & 1u) ? v[p] : 0u); p++)
+        ;
+    CHECK_MSG(p == PP_COUNT, "BSLOAD (enabled PPs only): field 128 of PP %u holds 0x%x", p,
+              p < PP_COUNT ? w[p] : 0);
     CHECK_EQ(renderer_bs_read(r, 128, w), PP5_E_FIRMWARE);
     CHECK_EQ(renderer_bs_write(r, 200, w), PP5_E_FIRMWARE);
     CHECK_EQ(renderer_read_field(r, 200, 9, w), PP5_E_FIRMWARE);

@@ -59,7 +59,7 @@ TEST(ring_one_message_takes_bytes_over_bandwidth_plus_latency)
     CHECK_EQ(k.when[0], want);
     CHECK_EQ(r.bytes_sent[RING_CLASS_PIXELS], 4008);
     CHECK_EQ(r.bytes_delivered[RING_CLASS_PIXELS], 4008);
-    CHECK_EQ(r.ch[0].busy_ticks, 1002ull * 50000);
+    CHECK_EQ(r.ch[0].busy_ps, 1002ull * 50000);
     ring_free(&r);
     sched_free(&s);
 }
@@ -101,7 +101,7 @@ TEST(ring_two_contending_senders_take_the_sum)
     CHECK_EQ(r.bytes_delivered[RING_CLASS_COMMAND], 1000);
     CHECK_EQ(r.bytes_delivered[RING_CLASS_DATA], 1000);
     CHECK_EQ(r.bytes_sent[RING_CLASS_PIXELS], 0);
-    CHECK_EQ(r.ch[0].busy_ticks, 2 * ser);
+    CHECK_EQ(r.ch[0].busy_ps, 2 * ser);
     CHECK_EQ(r.busy_by_class[RING_CLASS_COMMAND], ser);
     CHECK_EQ(r.busy_by_class[RING_CLASS_DATA], ser);
     ring_free(&r);

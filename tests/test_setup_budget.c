@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "firmware/testpattern_gp.h"
+#include "firmware/common/testpattern_gp.h"
 #include "machine.h"
 
 static void small_params(pp5_params_t *p)

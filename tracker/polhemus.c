@@ -456,8 +456,3 @@ pp5_status_t polhemus_source_open(polhemus_t *p, int head_station, int hand_stat
     *out = src;
     return PP5_OK;
 }
-
-polhemus_t *polhemus_source_device(gaze_source_t *src)
-{
-    return src && src->impl ? ((polhemus_src_t *)src->impl)->p : NULL;
-}

@@ -105,7 +105,5 @@ void polhemus_close(polhemus_t *p);
  * left out of that sample (counted in polhemus_stats). */
 pp5_status_t polhemus_source_open(polhemus_t *p, int head_station, int hand_station,
                                   double rate_hz, gaze_source_t **out);
-/* The tracker behind a source made by polhemus_source_open. */
-polhemus_t *polhemus_source_device(gaze_source_t *src);
 
 #endif

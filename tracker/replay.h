@@ -1,7 +1,7 @@
 /* replay.h: replaying a gaze trace through a renderer with latency.
  *
- * The arithmetic (issue 5, item 4; the seed paper §6 puts the 1990 system's
- * latency at 100-150 ms):
+ * The arithmetic (the seed paper §6 puts the 1990 system's latency at
+ * 100-150 ms):
  *   - frames run back to back; frame k starts at start_k, the first one when the
  *     first sample has arrived (t_0 + tracker latency);
  *   - at start_k the newest sample whose arrival time (t_i + tracker latency)

@@ -1,8 +1,10 @@
 /* fw_api.h: the narrow firmware API: everything a GP program may do.
  *
- * GP programs (firmware/) are compiled with -Iemu/api -Ifirmware only, so this
- * header, ring_msg.h and pp_encode.h are all they can see (STYLE L2): a program
- * cannot touch a renderer's pixel memory except by sending ring messages.
+ * GP programs (firmware/gp, firmware/pp, firmware/common) may include only
+ * emu/api/ and firmware/common/ (tests/test_layers.c) and may call only what
+ * emu/api/ declares (the Makefile's link check), so this header, ring_msg.h and
+ * pp_encode.h are all they can see (STYLE L2): a program cannot touch a
+ * renderer's pixel memory except by sending ring messages.
  *
  * Execution model.  A program is a set of callbacks that run to completion:
  * on_start once after the host has loaded the GP (HOST_LOAD arrived), and

@@ -1,7 +1,5 @@
 /* pp_encode.h: firmware-facing encoder of PP instruction streams (one emit function per instruction).
  *
- * changed: (nothing yet; seam with emu-core/firmware, change only additively)
- *
  * Firmware builds a stream here and sends it to a renderer (RENDERER_EXEC); the
  * word format and the semantics/cost of each instruction are in emu/pp_isa.h
  * and emu/PP_ISA.md.  Field addresses are bit addresses in the 208-bit pixel
@@ -9,8 +7,8 @@
  * encoder only checks that each value fits its 8-bit word field.  An error
  * (value out of range, out of memory) is sticky: the stream records the first
  * message and later emits do nothing; check pp_stream_ok() before sending.
- * This header may include only standard headers (firmware is compiled with
- * -Iemu/api only). */
+ * This header may include only standard headers and emu/api/ (firmware sees
+ * nothing else). */
 #ifndef PP5_PP_ENCODE_H
 #define PP5_PP_ENCODE_H
 

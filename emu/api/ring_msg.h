@@ -1,6 +1,6 @@
 /* ring_msg.h: ring node addresses, traffic classes and message kinds (firmware-facing).
  *
- * Included by firmware (built with -Iemu/api only) and by the emulator.  A
+ * Included by firmware (which sees only emu/api/) and by the emulator.  A
  * message is: source, destination, kind, traffic class, up to RING_MSG_ARGS
  * 32-bit header arguments and an optional payload.  On the wire the ring
  * charges header_bytes (parameter ring.header_bytes, [U]: no source gives
@@ -93,7 +93,7 @@ typedef enum {
     RING_MSG_FB_SWAP,
     RING_MSG_HOST_LOAD,
     RING_MSG_GP_USER,
-    RING_MSG_FRAME_START,     /* host -> GP */
+    RING_MSG_FRAME_START,     /* host -> GP: start frame a[0] */
     RING_MSG_RENDERER_READ_BS_BOX,
     RING_MSG_KIND_COUNT
 } ring_msg_kind_t;
@@ -120,5 +120,19 @@ typedef struct {
     const void *payload;
     size_t payload_bytes;
 } ring_msg_t;
+
+/* A complete message: every field is set, so none goes out with stale header
+ * words.  args: RING_MSG_ARGS words, or NULL for all zero; the payload is
+ * referenced, not copied (the ring copies it when the message is sent). */
+static inline ring_msg_t ring_msg_make(ring_addr_t src, ring_addr_t dst, uint32_t kind,
+                                       uint32_t cls, const uint32_t *args, const void *payload,
+                                       size_t payload_bytes)
+{
+    ring_msg_t m = {src, dst, kind, cls, {0}, payload, payload_bytes};
+    for (unsigned i = 0; args && i < RING_MSG_ARGS; i++) {
+        m.args[i] = args[i];
+    }
+    return m;
+}
 
 #endif

@@ -1,6 +1,6 @@
 /* bench_replay.c: `pp5 bench replay`: replay speed in timing-only mode, in
- * trace seconds per host second, on a synthetic 60 s, 1000 Hz trace (issue 5
- * benchmark; goal: faster than real time).  The frame time comes from the
+ * trace seconds per host second, on a synthetic 60 s, 1000 Hz trace (the goal:
+ * faster than real time).  The frame time comes from the
  * built-in constant source first (the replay arithmetic alone), then from the
  * emulated machine (every frame a real frame of the firmware), which is what
  * `pp5 replay` uses by default. */

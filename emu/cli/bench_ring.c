@@ -3,7 +3,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "firmware/testpattern_gp.h"
+#include "firmware/host/testpattern_session.h"
 #include "machine.h"
 #include "registry.h"
 #include "ring.h"
@@ -60,14 +60,9 @@ static int bench_ring(const pp5_bench_opts_t *o)
     }
     b.ring = &r;
     for (unsigned i = 0; i < n_nodes; i++) {
-        ring_msg_t m;
-        memset(&m, 0, sizeof m);
-        m.src = ring_addr(RING_NODE_GP, i);
-        m.dst = ring_addr(RING_NODE_GP, (i + 1) % n_nodes);
-        m.kind = RING_MSG_GP_USER;
-        m.cls = RING_CLASS_GP;
-        m.payload = b.payload;
-        m.payload_bytes = sizeof b.payload;
+        ring_msg_t m = ring_msg_make(ring_addr(RING_NODE_GP, i),
+                                     ring_addr(RING_NODE_GP, (i + 1) % n_nodes), RING_MSG_GP_USER,
+                                     RING_CLASS_GP, NULL, b.payload, sizeof b.payload);
         ring_send(&r, &m, i, (i + 1) % n_nodes, 0);
     }
     double t0 = wall_s();
@@ -95,10 +90,7 @@ static int bench_ring(const pp5_bench_opts_t *o)
     t0 = wall_s();
     st = machine_init(&m, &p);
     if (st == PP5_OK) {
-        st = machine_load_all(&m, &testpattern_program);
-    }
-    if (st == PP5_OK) {
-        st = machine_run_setup(&m, &why);
+        st = testpattern_session_load(&m, &why);
     }
     double t1 = wall_s();
     if (st == PP5_OK) {

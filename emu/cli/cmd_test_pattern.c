@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "cliopt.h"
-#include "firmware/testpattern_gp.h"
+#include "firmware/host/testpattern_session.h"
 #include "machine.h"
 #include "registry.h"
 #include "report.h"
@@ -26,6 +26,32 @@ static void tp_usage(FILE *out)
             "  --frames N           render N frames (default 1); the report lists each\n"
             PP5_PARAMS_CLI_HELP
             "  --help               this text\n");
+}
+
+/* The figures a reader checks against the hand calculation (README). */
+static void tp_print_summary(const machine_t *m, sched_stop_t stop)
+{
+    double frame_s = stats_frame_time_s(m);
+    const pp5_params_t *p = &m->params;
+    printf("test-pattern: %u GPs, %u renderers, %ux%u screen (%u regions), ring %g MB/s\n", m->n_gp, m->n_rn,
+           p->fb_width, p->fb_height, (p->fb_width / 128) * (p->fb_height / 128),
+           pp5_params_ring_aggregate_bytes_per_s(p) / 1e6);
+    printf("  program load      %.6f ms (host -> GPs, not part of the frame)\n", ticks_to_s(m->setup_ps) * 1e3);
+    printf("  frame time        %.6f ms (stop: %s)%s\n", frame_s * 1e3,
+           sched_stop_name(stop), m->n_frames > 1 ? " (mean over frames)" : "");
+    printf("  ring bytes        %llu (pixels %llu, commands %llu, host %llu)\n",
+           (unsigned long long)ring_total_bytes_sent(&m->ring),
+           (unsigned long long)m->ring.bytes_sent[RING_CLASS_PIXELS],
+           (unsigned long long)m->ring.bytes_sent[RING_CLASS_COMMAND],
+           (unsigned long long)m->ring.bytes_sent[RING_CLASS_HOST]);
+    printf("  ring utilization  %.1f %%\n", 100.0 * stats_ring_utilization(m));
+    uint64_t rc_max = 0;
+    for (unsigned i = 0; i < m->n_rn; i++) {
+        rc_max = m->rn[i].cycles > rc_max ? m->rn[i].cycles : rc_max;
+    }
+    printf("  busiest renderer  %llu cycles\n", (unsigned long long)rc_max);
+    printf("  fb                %llu blocks, %llu pixels\n", (unsigned long long)m->fb.blocks_received,
+           (unsigned long long)m->fb.pixels_received);
 }
 
 static int cmd_test_pattern(int argc, char **argv)
@@ -93,15 +119,9 @@ static int cmd_test_pattern(int argc, char **argv)
     if (timeline) {
         st = machine_enable_timeline(&m);
     }
-    if (st == PP5_OK) {
-        st = machine_load_all(&m, &testpattern_program);
-    }
     sched_stop_t stop = SCHED_STOP_IDLE;
     if (st == PP5_OK) {
-        st = machine_run_setup(&m, &stop);
-    }
-    for (long f = 0; st == PP5_OK && f < frames; f++) {
-        st = machine_run_frame(&m, &stop);
+        st = testpattern_session_run(&m, frames, &stop);
     }
     /* Reports and timelines are written even when the run failed (L6). */
     pp5_status_t st2 = PP5_OK;
@@ -109,8 +129,8 @@ static int cmd_test_pattern(int argc, char **argv)
     if (st != PP5_OK) {
         snprintf(saved, sizeof saved, "%s", pp5_error_text());
     }
-    if (report && (st2 = report_write(&m, &meta, report)) == PP5_OK && st == PP5_OK) {
-        /* fine */
+    if (report) {
+        st2 = report_write(&m, &meta, report);
     }
     if (st2 == PP5_OK && timeline && m.tl) {
         st2 = timeline_write(m.tl, timeline);
@@ -119,26 +139,7 @@ static int cmd_test_pattern(int argc, char **argv)
         st2 = fb_write_png(&m.fb, out);
     }
     if (st == PP5_OK) {
-        double frame_s = stats_frame_time_s(&m);
-        printf("test-pattern: %u GPs, %u renderers, %ux%u screen (%u regions), ring %g MB/s\n", m.n_gp, m.n_rn,
-               p.fb_width, p.fb_height, (p.fb_width / 128) * (p.fb_height / 128),
-               pp5_params_ring_aggregate_bytes_per_s(&p) / 1e6);
-        printf("  program load      %.6f ms (host -> GPs, not part of the frame)\n", ticks_to_s(m.setup_ps) * 1e3);
-        printf("  frame time        %.6f ms (stop: %s)%s\n", frame_s * 1e3,
-               sched_stop_name(stop), m.n_frames > 1 ? " (mean over frames)" : "");
-        printf("  ring bytes        %llu (pixels %llu, commands %llu, host %llu)\n",
-               (unsigned long long)ring_total_bytes_sent(&m.ring),
-               (unsigned long long)m.ring.bytes_sent[RING_CLASS_PIXELS],
-               (unsigned long long)m.ring.bytes_sent[RING_CLASS_COMMAND],
-               (unsigned long long)m.ring.bytes_sent[RING_CLASS_HOST]);
-        printf("  ring utilization  %.1f %%\n", 100.0 * stats_ring_utilization(&m));
-        uint64_t rc_max = 0;
-        for (unsigned i = 0; i < m.n_rn; i++) {
-            rc_max = m.rn[i].cycles > rc_max ? m.rn[i].cycles : rc_max;
-        }
-        printf("  busiest renderer  %llu cycles\n", (unsigned long long)rc_max);
-        printf("  fb                %llu blocks, %llu pixels\n", (unsigned long long)m.fb.blocks_received,
-               (unsigned long long)m.fb.pixels_received);
+        tp_print_summary(&m, stop);
     }
     machine_free(&m);
     if (st != PP5_OK) {

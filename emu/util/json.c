@@ -126,12 +126,6 @@ void json_bool(json_writer_t *j, bool v)
     fputs(v ? "true" : "false", j->out);
 }
 
-void json_null(json_writer_t *j)
-{
-    before_item(j);
-    fputs("null", j->out);
-}
-
 void json_kv_string(json_writer_t *j, const char *key, const char *s) { json_key(j, key); json_string(j, s); }
 void json_kv_double(json_writer_t *j, const char *key, double v) { json_key(j, key); json_double(j, v); }
 void json_kv_int(json_writer_t *j, const char *key, int64_t v) { json_key(j, key); json_int(j, v); }

@@ -32,7 +32,6 @@ void json_double(json_writer_t *j, double v);
 void json_int(json_writer_t *j, int64_t v);
 void json_uint(json_writer_t *j, uint64_t v);
 void json_bool(json_writer_t *j, bool v);
-void json_null(json_writer_t *j);
 
 /* Shorthands for "key": value inside an object. */
 void json_kv_string(json_writer_t *j, const char *key, const char *s);

@@ -238,73 +238,97 @@ static pp5_status_t stacked_base(const plot_t *p, const plot_series_t **first)
     return PP5_OK;
 }
 
-static pp5_status_t compute_layout(const plot_t *p, int width, int height, layout_t *L)
+/* The data's extents before the axes round them: x, and y in axis units
+ * (log10 units on a log axis). */
+typedef struct {
+    double xlo, xhi, ylo, yhi;
+} extent_t;
+
+/* What must hold before anything is laid out; *base is the first stacked
+ * series (NULL when there is none). */
+static pp5_status_t layout_check(const plot_t *p, int width, int height,
+                                 const plot_series_t **base)
 {
-    memset(L, 0, sizeof *L);
     if (width < PLOT_MIN_W || height < PLOT_MIN_H || width > PLOT_MAX_SIDE ||
         height > PLOT_MAX_SIDE)
         return pp5_fail(PP5_E_RANGE, "plot: size %dx%d outside %dx%d..%dx%d", width, height,
                         PLOT_MIN_W, PLOT_MIN_H, PLOT_MAX_SIDE, PLOT_MAX_SIDE);
     if (p->n_series < 1)
         return pp5_fail(PP5_E_RANGE, "plot '%s': no series to draw", p->title);
-    const plot_series_t *base;
-    pp5_status_t st = stacked_base(p, &base);
+    pp5_status_t st = stacked_base(p, base);
     if (st != PP5_OK)
         return st;
-    L->have_stacked = base != NULL;
-    if (p->log_y && L->have_stacked)
+    if (p->log_y && *base)
         return pp5_fail(PP5_E_RANGE, "plot '%s': stacked series need a linear y axis", p->title);
+    return PP5_OK;
+}
 
-    /* Data extents. */
-    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+/* Stacked series: the bar width (0.7 of the smallest x spacing) and the
+ * cumulative tops at each shared x widen the extents. */
+static void stacked_extents(const plot_t *p, const plot_series_t *base, layout_t *L,
+                            extent_t *e)
+{
+    L->bar_width = 1.0;
+    if (base->n > 1) {
+        double dmin = INFINITY;
+        for (int k = 1; k < base->n; k++)
+            if (base->xs[k] != base->xs[k - 1])
+                dmin = fmin(dmin, fabs(base->xs[k] - base->xs[k - 1]));
+        if (isfinite(dmin))
+            L->bar_width = dmin;
+    }
+    L->bar_width *= 0.7;
+    for (int k = 0; k < base->n; k++) {
+        double top = 0;
+        for (int i = 0; i < p->n_series; i++)
+            if (p->series[i].stacked)
+                top += p->series[i].ys[k];
+        e->ylo = fmin(e->ylo, 0.0);
+        e->yhi = fmax(e->yhi, top);
+    }
+    if (p->stack_style == PLOT_STACK_BARS) {
+        e->xlo -= L->bar_width / 2;
+        e->xhi += L->bar_width / 2;
+    }
+}
+
+/* Extents of every series (stacked tops and category slots included). */
+static pp5_status_t data_extents(const plot_t *p, const plot_series_t *base, layout_t *L,
+                                 extent_t *e)
+{
+    *e = (extent_t){INFINITY, -INFINITY, INFINITY, -INFINITY};
     for (int i = 0; i < p->n_series; i++) {
         const plot_series_t *s = &p->series[i];
         for (int k = 0; k < s->n; k++) {
-            xlo = fmin(xlo, s->xs[k]);
-            xhi = fmax(xhi, s->xs[k]);
+            e->xlo = fmin(e->xlo, s->xs[k]);
+            e->xhi = fmax(e->xhi, s->xs[k]);
             if (!s->stacked) {
                 if (p->log_y && s->ys[k] <= 0)
                     return pp5_fail(PP5_E_RANGE, "plot '%s': log y axis but series '%s' has "
                                     "y = %g", p->title, s->name, s->ys[k]);
                 double y = p->log_y ? log10(s->ys[k]) : s->ys[k];
-                ylo = fmin(ylo, y);
-                yhi = fmax(yhi, y);
+                e->ylo = fmin(e->ylo, y);
+                e->yhi = fmax(e->yhi, y);
             }
         }
     }
-    if (base) {
-        /* Stacked tops: cumulative sums at each shared x. */
-        L->bar_width = 1.0;
-        if (base->n > 1) {
-            double dmin = INFINITY;
-            for (int k = 1; k < base->n; k++)
-                if (base->xs[k] != base->xs[k - 1])
-                    dmin = fmin(dmin, fabs(base->xs[k] - base->xs[k - 1]));
-            if (isfinite(dmin))
-                L->bar_width = dmin;
-        }
-        L->bar_width *= 0.7;
-        for (int k = 0; k < base->n; k++) {
-            double top = 0;
-            for (int i = 0; i < p->n_series; i++)
-                if (p->series[i].stacked)
-                    top += p->series[i].ys[k];
-            ylo = fmin(ylo, 0.0);
-            yhi = fmax(yhi, top);
-        }
-        if (p->stack_style == PLOT_STACK_BARS) {
-            xlo -= L->bar_width / 2;
-            xhi += L->bar_width / 2;
-        }
-    }
+    if (base)
+        stacked_extents(p, base, L, e);
     if (p->n_categories > 0) {
-        xlo = fmin(xlo, -0.5);
-        xhi = fmax(xhi, p->n_categories - 0.5);
+        e->xlo = fmin(e->xlo, -0.5);
+        e->xhi = fmax(e->xhi, p->n_categories - 0.5);
     }
-    if (!p->log_y && ylo > 0)
-        ylo = 0;   /* quantities from zero unless told otherwise */
+    if (!p->log_y && e->ylo > 0)
+        e->ylo = 0;   /* quantities from zero unless told otherwise */
+    return PP5_OK;
+}
 
-    /* x axis. */
+/* The x range (fixed, or the data's rounded out to whole tick steps) and its
+ * ticks (or one per category); *xstep is the tick step. */
+static pp5_status_t layout_x_axis(const plot_t *p, const plot_series_t *base, extent_t e,
+                                  layout_t *L, double *xstep)
+{
+    double xlo = e.xlo, xhi = e.xhi;
     if (p->fixed_x) {
         if (!(p->xmax > p->xmin) || !isfinite(p->xmin) || !isfinite(p->xmax))
             return pp5_fail(PP5_E_RANGE, "plot '%s': x range %g..%g is empty", p->title, p->xmin,
@@ -316,10 +340,10 @@ static pp5_status_t compute_layout(const plot_t *p, int width, int height, layou
         xlo -= pad;
         xhi += pad;
     }
-    double xstep = nice_step((xhi - xlo) / 6.0);
+    *xstep = nice_step((xhi - xlo) / 6.0);
     if (!p->fixed_x && p->n_categories == 0 && !(base && p->stack_style == PLOT_STACK_BARS)) {
-        xlo = floor(xlo / xstep + 1e-9) * xstep;
-        xhi = ceil(xhi / xstep - 1e-9) * xstep;
+        xlo = floor(xlo / *xstep + 1e-9) * *xstep;
+        xhi = ceil(xhi / *xstep - 1e-9) * *xstep;
     }
     L->xmin = xlo;
     L->xmax = xhi;
@@ -328,11 +352,16 @@ static pp5_status_t compute_layout(const plot_t *p, int width, int height, layou
         for (int i = 0; i < p->n_categories && i < MAX_TICKS; i++)
             L->xticks[L->n_xticks++] = i;
     } else {
-        L->n_xticks = make_ticks(xlo, xhi, xstep, L->xticks);
+        L->n_xticks = make_ticks(xlo, xhi, *xstep, L->xticks);
     }
+    return PP5_OK;
+}
 
-    /* y axis. */
-    double ystep;
+/* The y range: fixed, or the data's rounded out to whole tick steps (whole
+ * decades on a log axis); *ystep is the tick step. */
+static pp5_status_t layout_y_axis(const plot_t *p, extent_t e, layout_t *L, double *ystep)
+{
+    double ylo = e.ylo, yhi = e.yhi;
     if (p->fixed_y) {
         double a = p->ymin, b = p->ymax;
         if (p->log_y) {
@@ -346,7 +375,7 @@ static pp5_status_t compute_layout(const plot_t *p, int width, int height, layou
                             p->ymax);
         ylo = a;
         yhi = b;
-        ystep = p->log_y ? fmax(1.0, ceil((b - a) / 8.0)) : nice_step((b - a) / 6.0);
+        *ystep = p->log_y ? fmax(1.0, ceil((b - a) / 8.0)) : nice_step((b - a) / 6.0);
     } else {
         if (yhi <= ylo) {
             double pad = ylo != 0 ? fabs(ylo) * 0.1 : 1.0;
@@ -356,18 +385,24 @@ static pp5_status_t compute_layout(const plot_t *p, int width, int height, layou
         if (p->log_y) {
             ylo = floor(ylo);
             yhi = ceil(yhi);
-            ystep = fmax(1.0, ceil((yhi - ylo) / 8.0));
+            *ystep = fmax(1.0, ceil((yhi - ylo) / 8.0));
         } else {
-            ystep = nice_step((yhi - ylo) / 6.0);
-            ylo = floor(ylo / ystep + 1e-9) * ystep;
-            yhi = ceil(yhi / ystep - 1e-9) * ystep;
+            *ystep = nice_step((yhi - ylo) / 6.0);
+            ylo = floor(ylo / *ystep + 1e-9) * *ystep;
+            yhi = ceil(yhi / *ystep - 1e-9) * *ystep;
         }
     }
     L->ymin = ylo;
     L->ymax = yhi;
-    L->n_yticks = make_ticks(ylo, yhi, ystep, L->yticks);
+    L->n_yticks = make_ticks(ylo, yhi, *ystep, L->yticks);
+    return PP5_OK;
+}
 
-    /* Margins from the text that goes around the plot area. */
+/* Margins from the text around the plot area (title, axis labels, tick
+ * labels, legend), then the area itself; fails when nothing is left. */
+static pp5_status_t layout_margins(const plot_t *p, int width, int height, double xstep,
+                                   double ystep, layout_t *L)
+{
     L->scale = (width >= 640 && height >= 400) ? 2 : 1;
     int ch = 7 * L->scale;
     int ylab_w = 0;
@@ -406,6 +441,27 @@ static pp5_status_t compute_layout(const plot_t *p, int width, int height, layou
         return pp5_fail(PP5_E_RANGE, "plot '%s': %dx%d leaves no room for the chart (labels or "
                         "legend too long)", p->title, width, height);
     return PP5_OK;
+}
+
+/* The one layout that drawing and plot_data_to_pixel share. */
+static pp5_status_t compute_layout(const plot_t *p, int width, int height, layout_t *L)
+{
+    memset(L, 0, sizeof *L);
+    const plot_series_t *base = NULL;
+    extent_t e;
+    double xstep = 0, ystep = 0;
+    pp5_status_t st = layout_check(p, width, height, &base);
+    if (st == PP5_OK) {
+        L->have_stacked = base != NULL;
+        st = data_extents(p, base, L, &e);
+    }
+    if (st == PP5_OK)
+        st = layout_x_axis(p, base, e, L, &xstep);
+    if (st == PP5_OK)
+        st = layout_y_axis(p, e, L, &ystep);
+    if (st == PP5_OK)
+        st = layout_margins(p, width, height, xstep, ystep, L);
+    return st;
 }
 
 static double map_x(const layout_t *L, double x)

@@ -152,15 +152,9 @@ static pp5_status_t make_config(fw_session_t *s, const render_job_t *job)
 static pp5_status_t send_to_gp(fw_session_t *s, unsigned g, uint32_t sub, const void *payload,
                                size_t bytes, pp5_tick_t t)
 {
-    ring_msg_t msg;
-    memset(&msg, 0, sizeof msg);
-    msg.src = ring_addr(RING_NODE_HOST, 0);
-    msg.dst = ring_addr(RING_NODE_GP, g);
-    msg.kind = RING_MSG_GP_USER;
-    msg.cls = RING_CLASS_HOST;
-    msg.args[0] = sub;
-    msg.payload = payload;
-    msg.payload_bytes = bytes;
+    const uint32_t args[RING_MSG_ARGS] = {sub};
+    ring_msg_t msg = ring_msg_make(ring_addr(RING_NODE_HOST, 0), ring_addr(RING_NODE_GP, g),
+                                   RING_MSG_GP_USER, RING_CLASS_HOST, args, payload, bytes);
     return machine_send(&s->m, &msg, t);
 }
 

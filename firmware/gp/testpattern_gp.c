@@ -1,5 +1,5 @@
 /* testpattern_gp.c: GP firmware for `pp5 test-pattern`: bins discs per region and sends QEE streams to renderers. */
-#include "testpattern_gp.h"
+#include "common/testpattern_gp.h"
 
 #include "pp_encode.h"
 #include "ring_msg.h"
