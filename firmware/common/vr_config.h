@@ -32,7 +32,9 @@ enum {
     VR_MSG_REQUEST,            /* GP -> driver GP: bricks wanted (uint32 brick ids) */
     VR_MSG_BOUNDARY,           /* GP g -> GP g-1: texel colours of g's first texel rows */
     VR_MSG_SETUP_DONE,         /* GP -> host: bricks written (setup barrier) */
-    VR_MSG_SLAB                /* host -> GP: the slab's volume slices (floats) */
+    VR_MSG_SLAB,               /* host -> GP: the slab's volume slices (floats) */
+    VR_MSG_NEED,               /* object slabs: band owner -> all GPs: its needed texels (bits) */
+    VR_MSG_PARTIAL             /* object slabs: GP -> band owner: segment colours of its texels */
 };
 
 typedef struct {
@@ -79,10 +81,14 @@ typedef struct {
     double gaze_x, gaze_y, gaze_scale;
     float right[3], down[3], forward[3], centre[3], eye[3], box_hi[3];
     float pixel_size, eye_distance, radius;
-    float light_obj[3];                 /* moving-object light in object space */
+    float light_dir[3];                 /* this frame's light: object space (fixed light) or
+                                           eye space (moving object), as shade_params_t */
     /* GP g casts the rays of and resamples pixel rows [band_y0[g], band_y0[g+1]);
      * the host balances the bands for the gaze point (firmware/ARCHITECTURE.md). */
     int32_t band_y0[VR_MAX_GPS + 1];
+    /* Object slabs: GP g casts the ray segments whose samples lie in level-0
+     * slices [slab_z0[g], slab_z0[g+1]) (firmware/ARCHITECTURE.md). */
+    int32_t slab_z0[VR_MAX_GPS + 1];
 } vr_frame_t;
 
 /* Level dims, brick dims and brick grid, computed identically on host and GPs. */

@@ -26,6 +26,14 @@ typedef struct {
  * components = 28 x (2 fadd + 1 fmul). */
 static const vr_cost_row_t VR_COST_TRILERP = {6 + 3 + 56, 3 + 28, 0, 0, 8 + 8 + 32, 0,
                                               3 + 12 + 12 + 6 + 8, 12};
+/* Object slabs: one probe of the binary search for a ray's first or last
+ * sample in the slab: t = t0 + k * base and z at it (2 fadd, 2 fmul, 1
+ * int->float), round and floor, compare, halve the interval. */
+static const vr_cost_row_t VR_COST_SEGMENT_PROBE = {2 + 1, 2, 0, 0, 0, 0, 2 + 4, 2};
+/* Object slabs: compositing one partial colour into a texel, front to back:
+ * load it (5 words) and the accumulator (4), 1 - a (1 fadd), 4 x (1 fmul +
+ * 1 fadd), store the accumulator. */
+static const vr_cost_row_t VR_COST_MERGE = {1 + 4, 4, 0, 0, 9, 4, 3, 2};
 /* Blend of two levels: 4 x (2 fadd + 1 fmul), 1 compare. */
 static const vr_cost_row_t VR_COST_LEVEL_BLEND = {8 + 1, 4, 0, 0, 0, 0, 2, 1};
 /* One sample's bookkeeping: position (3 fadd + 3 fmul), loop test, step

@@ -13,8 +13,13 @@ void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
 {
     /* Resident keeps its units across frames; image-bands drops them after
      * each pass already. */
-    if (s->cfg.division != VR_DIVISION_RESIDENT && s->cache)
+    if (!vr_keeps_units(s) && s->cache)
         vr_units_drop_all(gp, s);
+    if (s->cfg.division == VR_DIVISION_OBJECT_SLABS) {
+        vr_slabs_free(gp, s);
+        for (int id = 0; id < s->n_units && s->unit_tiles; id++)
+            s->unit_tiles[id] = 0;
+    }
     for (int m = 0; m < VR_MAX_2D_LEVELS; m++) {
         if (s->ray_state[m])
             fw_free(gp, s->ray_state[m]);
@@ -127,7 +132,7 @@ fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s)
 /* The requests of this pass: through each renderer's driver GP when the
  * PPs shade this frame (its reads then follow its EXEC in the same FIFO),
  * else straight to the renderers. */
-static fw_status_t send_requests(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n)
+fw_status_t vr_fetch_send_requests(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n)
 {
     if (!s->exec_this_frame) {
         for (size_t i = 0; i < n; i++)
@@ -205,7 +210,7 @@ fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s)
         s->unit_state[want[i]] = 1;
     vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
     s->bricks_pending = (int)n_want * vr_unit_reads(s);
-    rc = send_requests(gp, s, want, n_want);
+    rc = vr_fetch_send_requests(gp, s, want, n_want);
     fw_free(gp, want);
     if (rc != FW_OK)
         return rc;
@@ -244,6 +249,8 @@ static fw_status_t pass_done(gp_t *gp, vr_state_t *s)
 
 fw_status_t vr_fetch_cast_ready(gp_t *gp, vr_state_t *s)
 {
+    if (s->cfg.division == VR_DIVISION_OBJECT_SLABS)
+        return vr_slabs_progress(gp, s);
     if (s->cast_done)
         return FW_OK;
     while (s->tile < s->tiles && s->tile_pending[s->tile] == 0) {

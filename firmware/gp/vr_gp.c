@@ -62,6 +62,10 @@ static fw_status_t vr_message(gp_t *gp, const ring_msg_t *m)
         }
         case VR_MSG_BOUNDARY:
             return vr_resample_on_boundary(gp, s, m);
+        case VR_MSG_NEED:
+            return vr_slabs_early(s, m) ? vr_slabs_defer(gp, s, m) : vr_slabs_on_need(gp, s, m);
+        case VR_MSG_PARTIAL:
+            return vr_slabs_early(s, m) ? vr_slabs_defer(gp, s, m) : vr_slabs_on_partial(gp, s, m);
         default:
             return fw_fail(gp, "vr: unknown GP message %u", m->args[0]);
         }

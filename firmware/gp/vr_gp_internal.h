@@ -44,6 +44,32 @@ typedef struct {
     int ugx, ugy, ugz;                    /* units along each axis of the level */
 } vr_unit_geom_t;
 
+/* Object slabs: a needed texel of some band (its 2D level m, column i, row j,
+ * and its index in that band's texel numbering), and one GP's segment colour
+ * and opacity for it. */
+typedef struct {
+    uint32_t code;
+    uint16_t i, j;
+    uint8_t m;
+} vr_texel_ref_t;
+
+typedef struct {
+    vr_texel_ref_t *t;
+    size_t n;
+} vr_texel_list_t;
+
+typedef struct {
+    uint32_t code;
+    float rgba[4];
+} vr_partial_t;
+
+/* Object slabs: one band's texel rows per 2D level (any GP can compute any
+ * band's from the frame parameters). */
+typedef struct {
+    int jlo[VR_MAX_2D_LEVELS], jhi[VR_MAX_2D_LEVELS], tw[VR_MAX_2D_LEVELS];
+    uint32_t base[VR_MAX_2D_LEVELS + 1];  /* first texel code of each level; base[levels] = total */
+} vr_band_geom_t;
+
 #define VR_MAX_TILES VR_TILES_MAX        /* ray groups of a pass cast as their units arrive */
 
 typedef struct {
@@ -84,14 +110,26 @@ typedef struct {
     uint8_t *unit_tiles;                  /* this pass: bit t = tile t needs the unit */
     uint8_t *unit_state;                  /* 0 absent, 1 requested, 2 present */
     uint64_t cache_bytes, cache_budget;   /* bytes of present units; the pass's limit */
-    bool cache_valid_view;                /* resident: cached shaded values are this view's */
-    vr_frame_t last_view;                 /* resident: the view the cache was shaded for */
+    bool cache_valid_view;                /* cache_consts are those of the cached units */
+    vr_shade_consts_t cache_consts;       /* the shading the cached units were shaded with */
     int bricks_pending;                   /* reads of this pass still to arrive */
     int tiles, tile;                      /* tiles of this pass; the next to cast */
     int tile_y0[VR_MAX_TILES + 1];        /* pixel rows of each tile */
     int tile_pending[VR_MAX_TILES];       /* units each tile still waits for */
     bool blocked;                         /* waiting for a tile's units since t_blocked */
     uint64_t t_blocked;
+    /* Object slabs (vr_slabs.c). */
+    long zslab_lo, zslab_hi;              /* the level-0 slices this GP casts through */
+    vr_texel_list_t band_need[VR_MAX_GPS];   /* each band's needed texels, as they arrive */
+    bool need_in[VR_MAX_GPS], band_cast[VR_MAX_GPS];
+    int needs_pending, bands_cast, bands_with_rows;
+    bool slab_cast_over;
+    vr_partial_t *partials[VR_MAX_GPS];   /* partials for our band, by the GP that cast them */
+    size_t n_partials[VR_MAX_GPS];
+    int partials_pending;
+    int slab_frame;                       /* 1 + the frame whose slab state is set up */
+    uint8_t *deferred;                    /* NEED/PARTIAL messages that came before our frame */
+    size_t deferred_bytes;
     bool cast_done, boundary_ok;
     int levels2d, maxm;
     int y0, y1;                           /* own pixel rows */
@@ -150,6 +188,12 @@ static inline void vr_stat_set(gp_t *gp, const vr_state_t *s, int id, uint64_t v
     fw_stat_set(gp, s->stat[id], v);
 }
 
+/* Divisions that keep their units across frames (resident, object slabs). */
+static inline bool vr_keeps_units(const vr_state_t *s)
+{
+    return s->cfg.division != VR_DIVISION_IMAGE_BANDS;
+}
+
 static inline bool vr_uses_exec(const vr_state_t *s)
 {
     return s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_PP;
@@ -192,11 +236,29 @@ fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_
 fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s);
 fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s);
 fw_status_t vr_fetch_cast_ready(gp_t *gp, vr_state_t *s);
+fw_status_t vr_fetch_send_requests(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_t n);
 fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
 
 /* vr_cast.c */
 void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1);
+/* Object slabs: the segments of the listed texels' rays through slices
+ * [zlo, zhi); their colours and opacities, where not empty, into out. */
+size_t vr_cast_slab_segments(gp_t *gp, vr_state_t *s, const vr_texel_list_t *tl, long zlo,
+                             long zhi, vr_partial_t *out);
 fw_status_t vr_cast_send_boundary(gp_t *gp, vr_state_t *s);
+
+/* vr_slabs.c */
+fw_status_t vr_slabs_frame(gp_t *gp, vr_state_t *s);
+fw_status_t vr_slabs_progress(gp_t *gp, vr_state_t *s);
+fw_status_t vr_slabs_on_need(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+fw_status_t vr_slabs_on_partial(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+void vr_slabs_free(gp_t *gp, vr_state_t *s);
+/* A NEED or PARTIAL for a frame we have not started yet: kept until we do. */
+fw_status_t vr_slabs_defer(gp_t *gp, vr_state_t *s, const ring_msg_t *m);
+static inline bool vr_slabs_early(const vr_state_t *s, const ring_msg_t *m)
+{
+    return (int)m->args[2] + 1 != s->slab_frame;
+}
 
 /* vr_resample.c */
 fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s);

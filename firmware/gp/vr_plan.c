@@ -14,18 +14,6 @@ static const int phase_times[] = {VR_STAT_T_PREP_DONE, VR_STAT_T_CAST_DONE, VR_S
                                   VR_STAT_T_DONE};
 #define N_PHASE_TIMES ((int)(sizeof phase_times / sizeof phase_times[0]))
 
-/* Has the camera moved since the last frame?  (Every GP sees the same
- * frame parameters, so all decide alike.) */
-static bool same_view(const vr_frame_t *a, const vr_frame_t *b)
-{
-    return memcmp(a->right, b->right, sizeof a->right) == 0 &&
-           memcmp(a->down, b->down, sizeof a->down) == 0 &&
-           memcmp(a->forward, b->forward, sizeof a->forward) == 0 &&
-           memcmp(a->centre, b->centre, sizeof a->centre) == 0 &&
-           memcmp(a->eye, b->eye, sizeof a->eye) == 0 && a->pixel_size == b->pixel_size &&
-           a->eye_distance == b->eye_distance && a->projection == b->projection;
-}
-
 /* The view-dependent shading constants of the frame (raycast_ctx_init):
  * fixed light in object space; a moving object's light carried into object
  * space for this view. */
@@ -34,12 +22,12 @@ static void frame_shading(gp_t *gp, vr_state_t *s)
     const vr_config_t *c = &s->cfg;
     if (c->lighting == VR_LIGHT_DIFFUSE)
         return;
+    const float *ld = s->fr.light_dir;
     float light[3];
     for (int a = 0; a < 3; a++)
         light[a] = c->lighting == VR_LIGHT_MOVING
-                       ? c->light_dir[0] * s->fr.right[a] + c->light_dir[1] * s->fr.down[a] +
-                             c->light_dir[2] * s->fr.forward[a]
-                       : c->light_dir[a];
+                       ? ld[0] * s->fr.right[a] + ld[1] * s->fr.down[a] + ld[2] * s->fr.forward[a]
+                       : ld[a];
     float view[3] = {-s->fr.forward[0], -s->fr.forward[1], -s->fr.forward[2]}, half[3];
     vr_half_vector(light, view, half);
     vr_shade_consts(&s->shade_consts, half, c->specular, (int)c->specular_exponent, c->two_sided);
@@ -53,17 +41,20 @@ static void frame_shading(gp_t *gp, vr_state_t *s)
     fw_charge(gp, &lo);
 }
 
-/* Resident: what the cache may keep.  Shaded values change with the view
- * under specular or moving lighting, and then nothing cached is valid; the
- * diffuse mip map never changes.  The PPs re-shade only when the view did. */
+/* Divisions that keep units: what the cache may keep.  Under specular or
+ * moving lighting the shaded values are a function of this frame's shading
+ * constants (half vector, light), so a change of view or light invalidates
+ * every cached unit and the PPs must shade again; otherwise they are still
+ * this frame's values.  The diffuse mip map never changes. */
 static void frame_cache(gp_t *gp, vr_state_t *s, bool *shade_pps)
 {
-    bool resident = s->cfg.division == VR_DIVISION_RESIDENT;
-    bool view_kept = s->cache_valid_view && same_view(&s->fr, &s->last_view);
-    *shade_pps = vr_uses_exec(s) && !(resident && view_kept);
-    if (resident && s->cfg.lighting != VR_LIGHT_DIFFUSE && !view_kept)
+    bool keeps = vr_keeps_units(s), diffuse = s->cfg.lighting == VR_LIGHT_DIFFUSE;
+    bool same = s->cache_valid_view &&
+                memcmp(&s->shade_consts, &s->cache_consts, sizeof s->cache_consts) == 0;
+    *shade_pps = vr_uses_exec(s) && !(keeps && same);
+    if (keeps && !diffuse && !same)
         vr_units_drop_all(gp, s);
-    s->last_view = s->fr;
+    s->cache_consts = s->shade_consts;
     s->cache_valid_view = true;
 }
 
@@ -332,6 +323,8 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     frame_marks(s, &ops);
     fw_charge(gp, &ops);
     vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
+    if (s->cfg.division == VR_DIVISION_OBJECT_SLABS)
+        return vr_slabs_frame(gp, s);
     frame_tiles(s);
     if (frame_passes(gp, s) != FW_OK)
         return FW_ERROR;

@@ -21,7 +21,7 @@ static int units_per_axis(int n, int limit)
 
 static void unit_geometry(vr_state_t *s)
 {
-    int limit = s->cfg.division == VR_DIVISION_RESIDENT ? s->cfg.unit_edge : 0;
+    int limit = vr_keeps_units(s) ? s->cfg.unit_edge : 0;
     int id = 0;
     for (int n = 0; n < s->cfg.levels; n++) {
         const vr_level_geom_t *g = &s->geom[n];
@@ -71,7 +71,7 @@ size_t vr_unit_bytes(const vr_state_t *s, int id)
 {
     /* Image-bands reads and holds whole backing-store blocks (the baseline's
      * 64 KB per brick, partial bricks included). */
-    if (s->cfg.division != VR_DIVISION_RESIDENT)
+    if (!vr_keeps_units(s))
         return VR_BRICK_VOXELS * 4u;
     int n, ijk[3];
     vr_unit_locate(s, id, &n, ijk);
@@ -121,7 +121,7 @@ fw_status_t vr_units_init(gp_t *gp, vr_state_t *s)
     for (int id = 0; id < s->n_units; id++) {
         int lv, ijk[3];
         vr_unit_locate(s, id, &lv, ijk);
-        if (s->cfg.division != VR_DIVISION_RESIDENT) {
+        if (!vr_keeps_units(s)) {
             /* Whole bricks: the brick table GP 0 sent (exact occupancy). */
             s->unit_nonempty[id] = s->brick_nonempty[lv][id - s->unit_base[lv]];
             continue;
@@ -218,7 +218,7 @@ fw_status_t vr_unit_send_read(gp_t *gp, vr_state_t *s, int id, unsigned requeste
     vr_unit_locate(s, id, &lv, ijk);
     const vr_unit_geom_t *u = &s->unit[lv];
     const vr_level_geom_t *g = &s->geom[lv];
-    bool whole = s->cfg.division != VR_DIVISION_RESIDENT;
+    bool whole = !vr_keeps_units(s);
     ring_addr_t r = ring_addr(RING_NODE_RENDERER, (unsigned)brick % (unsigned)s->n_r);
     uint32_t reply = ring_addr_pack(ring_addr(RING_NODE_GP, requester));
     for (int w = 0; w < vr_unit_reads(s); w++) {

@@ -119,3 +119,36 @@ void fw_bands_learn(fw_session_t *s, const stats_t *frame)
     for (int u = 0; u < s->n_units && fn > 0; u++)
         s->unit_factor[u] = s->unit_factor[u] > 0 ? s->unit_factor[u] / (fsum / fn) : 1.0;
 }
+
+void fw_slabs_plan(const fw_session_t *s, int32_t *slab_z0)
+{
+    int n_gp = (int)s->m.n_gp, nz = s->cfg.nz;
+    double total = 0, w[VR_MAX_GPS * 64 + 1];
+    int nw = 0;
+    /* Weight of each level-0 slice: occupied coarse cells of its coarse
+     * slice (or 1 without the estimate), each coarse slice shared by its
+     * coarse_f slices. */
+    for (int z = 0; z < nz && nw < (int)(sizeof w / sizeof w[0]); z++, nw++) {
+        double c = 1.0;
+        if (s->coarse_alpha) {
+            int k = z / s->coarse_f;
+            size_t plane = (size_t)s->coarse_nx * s->coarse_ny, base = (size_t)k * plane;
+            c = 0;
+            for (size_t i = 0; i < plane; i++)
+                c += s->coarse_alpha[base + i] > 0.0f;
+            c = c / s->coarse_f + 1e-3;
+        }
+        w[nw] = c;
+        total += c;
+    }
+    double acc = 0;
+    int g = 1;
+    slab_z0[0] = 0;
+    for (int z = 0; z < nw && g < n_gp; z++) {
+        acc += w[z];
+        if (acc >= total * g / n_gp)
+            slab_z0[g++] = z + 1;
+    }
+    for (; g <= n_gp; g++)
+        slab_z0[g] = nz;
+}

@@ -18,7 +18,8 @@
 #include "render/classify.h"
 
 /* Coarse cells are at most COARSE_SIDE per axis. */
-#define COARSE_SIDE 64
+#define COARSE_SIDE 128
+#define PYRAMID_HEIGHTS 8
 
 static double row_cycles(const gp_cost_t *c, const vr_cost_row_t *r)
 {
@@ -37,6 +38,63 @@ static float cell_mean(const volume_t *v, int f, int i, int j, int k)
             for (int x = i * f; x < (i + 1) * f && x < v->nx; x++, n++)
                 sum += volume_at(v, x, y, z);
     return n ? (float)(sum / n) : 0.0f;
+}
+
+/* The coarse occupancy pyramid: level 0 marks cells with opacity in them
+ * or a neighbour (trilinear reads reach one voxel across), level k the OR of
+ * level k-1's 2x2x2 blocks, as the octree's OR pyramid. */
+static uint8_t *pyramid_at(const fw_session_t *s, int k, int x, int y, int z)
+{
+    int nx = (s->coarse_nx + (1 << k) - 1) >> k, ny = (s->coarse_ny + (1 << k) - 1) >> k;
+    return s->coarse_occ[k] + ((size_t)z * ny + y) * nx + x;
+}
+
+static pp5_status_t build_pyramid(fw_session_t *s)
+{
+    int nx = s->coarse_nx, ny = s->coarse_ny, nz = s->coarse_nz;
+    for (int k = 0; k < PYRAMID_HEIGHTS; k++) {
+        int kx = (nx + (1 << k) - 1) >> k, ky = (ny + (1 << k) - 1) >> k, kz = (nz + (1 << k) - 1) >> k;
+        s->coarse_occ[k] = calloc((size_t)kx * ky * kz, 1);
+        if (!s->coarse_occ[k])
+            return pp5_fail(PP5_E_NOMEM, "machine renderer: out of memory for the band estimate");
+    }
+    for (int z = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++)
+            for (int x = 0; x < nx; x++) {
+                if (!(s->coarse_alpha[((size_t)z * ny + y) * nx + x] > 0.0f))
+                    continue;
+                for (int dz = -1; dz <= 1; dz++)
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++) {
+                            int X = x + dx, Y = y + dy, Z = z + dz;
+                            if (X >= 0 && Y >= 0 && Z >= 0 && X < nx && Y < ny && Z < nz)
+                                *pyramid_at(s, 0, X, Y, Z) = 1;
+                        }
+            }
+    for (int k = 1; k < PYRAMID_HEIGHTS; k++) {
+        int px = (nx + (1 << (k - 1)) - 1) >> (k - 1), py = (ny + (1 << (k - 1)) - 1) >> (k - 1),
+            pz = (nz + (1 << (k - 1)) - 1) >> (k - 1);
+        for (int z = 0; z < pz; z++)
+            for (int y = 0; y < py; y++)
+                for (int x = 0; x < px; x++)
+                    if (*pyramid_at(s, k - 1, x, y, z))
+                        *pyramid_at(s, k, x >> 1, y >> 1, z >> 1) = 1;
+    }
+    return PP5_OK;
+}
+
+/* The largest empty node of the pyramid around coarse cell c: its height
+ * (0: the cell alone), or -1 when the cell is occupied.  Outside the grid
+ * everything is empty. */
+static int empty_height(const fw_session_t *s, const int c[3])
+{
+    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= s->coarse_nx || c[1] >= s->coarse_ny ||
+        c[2] >= s->coarse_nz)
+        return PYRAMID_HEIGHTS - 1;
+    for (int k = 0; k < PYRAMID_HEIGHTS; k++)
+        if (*pyramid_at(s, k, c[0] >> k, c[1] >> k, c[2] >> k))
+            return k - 1;
+    return PYRAMID_HEIGHTS - 1;
 }
 
 pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
@@ -83,6 +141,9 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
     s->coarse_ny = ny;
     s->coarse_nz = nz;
     s->coarse_f = f;
+    pp5_status_t st = build_pyramid(s);
+    if (st != PP5_OK)
+        return st;
     gp_cost_t cost;
     gp_cost_init(&cost, &s->params);
     s->cycles_ray = row_cycles(&cost, &VR_COST_RAY);
@@ -95,36 +156,6 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
     s->cycles_pixel = row_cycles(&cost, &VR_COST_PIXEL) + row_cycles(&cost, &VR_COST_MARK) +
                       row_cycles(&cost, &VR_COST_LEVEL_TABLE);
     return PP5_OK;
-}
-
-/* Occupied coarse cell (opacity > 0 in it or a face neighbour: trilinear
- * reads reach one voxel across), and the largest empty aligned node of the
- * coarse OR pyramid around cell c: its height h (0 = the cell itself
- * empty), or -1 when the cell is occupied. */
-static bool cell_occupied(const fw_session_t *s, int x, int y, int z)
-{
-    int d[3] = {s->coarse_nx, s->coarse_ny, s->coarse_nz};
-    if (x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2])
-        return false;
-    return s->coarse_alpha[((size_t)z * d[1] + y) * d[0] + x] > 0.0f;
-}
-
-static int empty_height(const fw_session_t *s, const int c[3])
-{
-    int h = -1;
-    for (int k = 0; k < 7; k++) {
-        int size = 1 << k, base[3];
-        for (int a = 0; a < 3; a++)
-            base[a] = (c[a] >> k) << k;
-        /* node [base, base + size) padded by one cell */
-        for (int z = base[2] - 1; z <= base[2] + size; z++)
-            for (int y = base[1] - 1; y <= base[1] + size; y++)
-                for (int x = base[0] - 1; x <= base[0] + size; x++)
-                    if (cell_occupied(s, x, y, z))
-                        return h;
-        h = k;
-    }
-    return h;
 }
 
 /* Samples and octree skips of the level-m ray through image point (px, py):

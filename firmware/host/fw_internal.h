@@ -15,6 +15,10 @@ void fw_bands_equal(int height, int n_gp, int levels2d, int32_t *band_y0);
  * point, the previous frame's measured cost factors (sequences) and, for
  * FW_PLAN_SAMPLES, the volume's occupancy along a coarse ray grid. */
 void fw_bands_plan(fw_session_t *s, double gx, double gy, int32_t *band_y0);
+/* Object slabs: the level-0 slices each GP casts through, [slab_z0[g],
+ * slab_z0[g+1]): equal shares of the volume's occupied cells when the
+ * sample estimate is built (FW_PLAN_SAMPLES), else of its slices. */
+void fw_slabs_plan(const fw_session_t *s, int32_t *slab_z0);
 /* After a frame: each band's measured GP cycles per unit of estimate, for the
  * next frame of a sequence. */
 void fw_bands_learn(fw_session_t *s, const stats_t *frame);

@@ -195,9 +195,11 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     const volume_t *v = job->volume;
     if (!v || !v->data || v->nx < 2 || v->ny < 2 || v->nz < 2)
         return pp5_fail(PP5_E_RANGE, "machine renderer: volume must be at least 2x2x2");
-    if (o->division == FW_DIVISION_OBJECT_SLABS)
-        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: division %s is not built yet",
-                        fw_division_name(o->division));
+    if (o->division == FW_DIVISION_OBJECT_SLABS &&
+        (job->settings.view.projection != PROJECTION_PARALLEL || job->settings.progressive))
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: the object-slabs division casts "
+                        "parallel projections and single frames of a view only (no perspective, "
+                        "no progressive refinement)");
     pp5_status_t st = make_config(s, job);
     if (st != PP5_OK)
         return st;
@@ -235,6 +237,8 @@ void fw_session_free(fw_session_t *s)
     free(s->unit_factor);
     free(s->unit_weight);
     free(s->coarse_alpha);
+    for (int k = 0; k < 8; k++)
+        free(s->coarse_occ[k]);
     memset(s, 0, sizeof *s);
 }
 
@@ -260,6 +264,7 @@ static void fill_frame(fw_session_t *s, double gx, double gy, vr_frame_t *f)
     f->pixel_size = cam.pixel_size;
     f->eye_distance = cam.eye_distance;
     f->radius = cam.radius;
+    memcpy(f->light_dir, s->shade.light_dir, sizeof f->light_dir);
     if (s->rs.progressive) {
         /* Progressive refinement keeps each GP's texel rows between frames,
          * so the bands stay fixed (equal) for the whole sequence. */
@@ -267,6 +272,10 @@ static void fill_frame(fw_session_t *s, double gx, double gy, vr_frame_t *f)
         f->progressive_keep = 1 | (s->prog_index > 0 ? 2 : 0);
         double growth = s->rs.progressive_growth > 1.0 ? s->rs.progressive_growth : 1.0;
         f->gaze_scale = pow(growth, (double)s->prog_index);
+    } else if (s->opts.division == FW_DIVISION_OBJECT_SLABS) {
+        /* Bands only resample (the same work per row); slabs cast. */
+        fw_bands_equal(s->rs.height, (int)s->m.n_gp, s->cfg.levels2d, f->band_y0);
+        fw_slabs_plan(s, f->slab_z0);
     } else {
         fw_bands_plan(s, gx, gy, f->band_y0);
     }
@@ -332,6 +341,27 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
     stats_free(&frame);
     s->last = *r;
     return img ? copy_image(s, img) : PP5_OK;
+}
+
+pp5_status_t fw_session_set_view(fw_session_t *s, const view_params_t *view)
+{
+    if (view->projection != s->rs.view.projection)
+        return pp5_fail(PP5_E_CONFIG, "machine renderer: the projection is fixed per sequence "
+                        "(the GPs' octree grids)");
+    s->rs.view = *view;
+    return PP5_OK;
+}
+
+pp5_status_t fw_session_set_light(fw_session_t *s, const float light_dir[3])
+{
+    /* A fixed light's diffuse term is in the 3D mip map the GPs built once
+     * (viewpoint-independent shading, paper §5). */
+    if (s->shade.lighting != SHADE_MOVING_OBJECT)
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: a fixed light is shaded into the "
+                        "3D mip map at setup; only a moving object's light can change between "
+                        "frames (start a new session for another fixed light)");
+    memcpy(s->shade.light_dir, light_dir, sizeof s->shade.light_dir);
+    return PP5_OK;
 }
 
 pp5_status_t fw_replay_frame_cost(void *ctx, double gaze_x, double gaze_y, fw_replay_cost_t *out)

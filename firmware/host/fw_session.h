@@ -125,6 +125,7 @@ typedef struct {
     /* FW_PLAN_SAMPLES: opacity per level-0 voxel length on a coarse grid
      * (cells of coarse_f^3 voxels), and GP cycles per ray / sample / pixel. */
     float *coarse_alpha;
+    uint8_t *coarse_occ[8];           /* its occupancy pyramid (fw_estimate.c) */
     int coarse_nx, coarse_ny, coarse_nz, coarse_f;
     double cycles_ray, cycles_sample, cycles_skip, cycles_pixel;
 } fw_session_t;
@@ -136,6 +137,11 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
 pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *img,
                               fw_frame_result_t *r);
 void fw_session_free(fw_session_t *s);
+/* Between frames: a new view (rotation, zoom; the projection is fixed per
+ * sequence) or, for a moving object, a new light direction in eye space (a
+ * fixed light is shaded into the mip map at setup: PP5_E_UNSUPPORTED). */
+pp5_status_t fw_session_set_view(fw_session_t *s, const view_params_t *view);
+pp5_status_t fw_session_set_light(fw_session_t *s, const float light_dir[3]);
 
 /* The replay helper's frame-cost callback shape (ctx = fw_session_t *). */
 typedef struct {
