@@ -9,6 +9,7 @@
 
 #include "tracker/angles.h"
 #include "cliopt.h"
+#include "emu/cli/cmd_replay.h"
 #include "json.h"
 #include "registry.h"
 #include "tracker/replay.h"
@@ -46,7 +47,10 @@ static void usage(FILE *out)
         "  --refresh-hz HZ          images wait for the next refresh (e.g. 60); default: none\n"
         "  --gap-s G                a pause in the samples longer than G s (default 1) splits\n"
         "                           the trace: frames whose gaze predates it are not scored\n"
-        "  --predict P              none (default), linear, alphabeta, kalman\n"
+        "  --predict P              none (default), linear, alphabeta, kalman, or landing: the\n"
+        "                           landing point of a saccade in flight (main sequence and\n"
+        "                           velocity profile, tracker/predict_landing.h), with the\n"
+        "                           landing error per amplitude bin\n"
         "  --timing-only            do not ask the frame source for images\n"
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
@@ -246,8 +250,8 @@ static int cmd_replay(int argc, char **argv)
         case 'p': {
             predict_kind_t k;
             if (!predict_kind_parse(optarg, &k))
-                st = pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta or "
-                              "kalman, got '%s'", optarg);
+                st = pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta, "
+                              "kalman or landing, got '%s'", optarg);
             else
                 predict_defaults(&p.predict, k);
             break;
@@ -354,7 +358,9 @@ static int cmd_replay(int argc, char **argv)
         if (frames_dir)
             printf("  frames written to %s: %zu (the cost source renders %s)\n", frames_dir,
                    fo.written, fo.written ? "images" : "no images");
-        if (csv)
+        if (p.predict.kind == PREDICT_LANDING)
+            st = replay_print_landing(&t, &p);
+        if (st == PP5_OK && csv)
             st = write_csv(csv, &r);
         if (st == PP5_OK && report)
             st = write_report(report, path, &t, &p, cs, cost_options, s);

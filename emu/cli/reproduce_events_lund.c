@@ -18,6 +18,7 @@
 
 #include "emu/cli/reproduce_events.h"
 #include "tracker/import.h"
+#include "tracker/predict_landing.h"
 
 const int lund_classes[LUND_CLASSES] = {GAZE_LABEL_FIXATION, GAZE_LABEL_SACCADE, GAZE_LABEL_PSO,
                                         GAZE_LABEL_PURSUIT, GAZE_LABEL_BLINK};
@@ -368,6 +369,75 @@ static pp5_status_t tune_edges(const lund_set_t *set)
     return PP5_OK;
 }
 
+/* The landing predictor's error model, on the tuning files: the first
+ * landing estimate after each saccade's peak against coder MN's landing
+ * (predict_landing.h), pooled over the files, per amplitude bin. */
+static pp5_status_t landing_score(const lund_set_t *set, const landing_params_t *lp,
+                                  double err[LANDING_BINS], double hold[LANDING_BINS])
+{
+    double esum[LANDING_BINS] = {0}, hsum[LANDING_BINS] = {0};
+    size_t bn[LANDING_BINS] = {0};
+    pp5_status_t st = PP5_OK;
+    for (size_t i = 0; i < set->count && st == PP5_OK; i++) {
+        const lund_file_t *f = &set->files[i];
+        if (!f->tune)
+            continue;
+        int *mn = malloc(f->mn.count * sizeof *mn);
+        if (!mn)
+            return pp5_fail(PP5_E_NOMEM, "out of memory");
+        for (size_t k = 0; k < f->mn.count; k++)
+            mn[k] = f->mn.samples[k].label;
+        landing_truth_list_t truth;
+        landing_report_t rep;
+        st = landing_truth_from_labels(&f->mn, mn, &truth);
+        if (st == PP5_OK)
+            st = landing_evaluate(&f->mn, lp, 0.05, &truth, &rep);
+        for (int b = 0; st == PP5_OK && b < LANDING_BINS; b++)
+            if (rep.predicted[b]) {
+                esum[b] += rep.mean_err_deg[b] * (double)rep.predicted[b];
+                hsum[b] += rep.mean_hold_err_deg[b] * (double)rep.predicted[b];
+                bn[b] += rep.predicted[b];
+            }
+        if (st == PP5_OK)
+            landing_truth_free(&truth);
+        free(mn);
+    }
+    for (int b = 0; b < LANDING_BINS; b++) {
+        err[b] = bn[b] ? esum[b] / (double)bn[b] : NAN;
+        hold[b] = bn[b] ? hsum[b] / (double)bn[b] : NAN;
+    }
+    return st;
+}
+
+/* The landing predictor's estimators and its peak rule, on the tuning files:
+ * the first estimate after each saccade's peak against coder MN's landing. */
+static pp5_status_t tune_landing(const lund_set_t *set)
+{
+    static const char *const names[] = {"both", "main sequence", "profile"};
+    static const double drop[] = {0.85, 0.7, 0.5};
+    printf("landing: estimator x peak drop -> mean error (deg) of the first estimate after the "
+           "peak vs MN's landing, per bin 0-2 2-5 5-10 10-20 20+ deg [newest sample then]\n");
+    for (int e = 0; e < 3; e++)
+        for (size_t j = 0; j < sizeof drop / sizeof drop[0]; j++) {
+            landing_params_t lp;
+            landing_defaults(&lp);
+            lp.peak_drop = drop[j];
+            if (e == 1)
+                lp.profile_spread = 1e9;     /* the profile carries no weight */
+            if (e == 2)
+                lp.velocity_spread = 1e9;    /* nor the main sequence */
+            double err[LANDING_BINS], hold[LANDING_BINS];
+            pp5_status_t st = landing_score(set, &lp, err, hold);
+            if (st != PP5_OK)
+                return st;
+            printf("  %-13s %.2f:", names[e], drop[j]);
+            for (int b = 0; b < LANDING_BINS; b++)
+                printf(" %5.2f [%5.2f]", err[b], hold[b]);
+            printf("\n");
+        }
+    return PP5_OK;
+}
+
 pp5_status_t lund_tune(const lund_set_t *set)
 {
     size_t n = 0;
@@ -384,5 +454,7 @@ pp5_status_t lund_tune(const lund_set_t *set)
         st = tune_adaptive(set);
     if (st == PP5_OK)
         st = tune_edges(set);
+    if (st == PP5_OK)
+        st = tune_landing(set);
     return st;
 }
