@@ -50,7 +50,8 @@ static void usage(FILE *out)
         "  --predict P              none (default), linear, alphabeta, kalman, or landing: the\n"
         "                           landing point of a saccade in flight (main sequence and\n"
         "                           velocity profile, tracker/predict_landing.h), with the\n"
-        "                           landing error per amplitude bin\n"
+        "                           landing error per amplitude bin; landing:kalman (etc.)\n"
+        "                           uses that predictor outside saccades (default: none)\n"
         "  --timing-only            do not ask the frame source for images\n"
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
@@ -60,7 +61,22 @@ static void usage(FILE *out)
         "                           hid, hid:/dev/hidrawN, polhemus, polhemus:BUS:ADDR) for\n"
         "                           --seconds S (default 10), keep it in /tmp, then replay it\n"
         "  --frames-dir DIR         write each frame's image as DIR/frame_NNNNN.png (only when\n"
-        "                           the cost source renders images; the constant one does not)\n",
+        "                           the cost source renders images; the constant one does not)\n"
+        "  --sweep-latency          instead of one replay: the share of time inside the sweet\n"
+        "                           spot as the total latency goes 10..200 ms (the paper's\n"
+        "                           100-150 ms and the tolerable 50-70 ms marked), and which\n"
+        "                           --machine configuration first meets 70 ms\n"
+        "  --sweep-ms FROM:TO:STEP  the sweep's latencies (default 10:200:10)\n"
+        "  --machine SPEC           a machine configuration for the sweep, repeatable, in order:\n"
+        "                           machine settings as pp5 machine takes them, e.g.\n"
+        "                           \"gp.count=32 ring.channels=16\" or \"preset=gaze1990-literal\"\n"
+        "                           (default: the literal ring, 16 GPs, 32 GPs, 32 GPs with 16\n"
+        "                           ring channels; \"none\": no machines)\n"
+        "  --machine-frames N       frames emulated per configuration (default 4)\n"
+        "Examples:\n"
+        "  pp5 replay traces/saccades_10s_250hz.trace --predict landing --report r.json\n"
+        "  pp5 replay traces/pursuit_10s_250hz.trace --sweep-latency --machine \"gp.count=16\" \\\n"
+        "      --machine \"gp.count=32\"\n",
         REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
         REPLAY_DEFAULT_DISPLAY_LATENCY_S * 1e3);
 }
@@ -189,6 +205,46 @@ static pp5_status_t write_plot(const char *path, const replay_result_t *r)
 #endif
 }
 
+/* none | linear | alphabeta | kalman | landing[:FALLBACK]. */
+static pp5_status_t parse_predict(const char *text, predict_params_t *p)
+{
+    char name[32];
+    const char *colon = strchr(text, ':');
+    snprintf(name, sizeof name, "%.*s", colon ? (int)(colon - text) : (int)strlen(text), text);
+    predict_kind_t k, fallback = PREDICT_NONE;
+    if (!predict_kind_parse(name, &k) || (colon && (k != PREDICT_LANDING ||
+                                                    !predict_kind_parse(colon + 1, &fallback) ||
+                                                    fallback == PREDICT_LANDING)))
+        return pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta, kalman or "
+                        "landing[:none|linear|alphabeta|kalman], got '%s'", text);
+    predict_defaults(p, k);
+    p->landing_fallback = fallback;
+    return PP5_OK;
+}
+
+/* FROM:TO:STEP in ms. */
+static pp5_status_t parse_sweep_ms(const char *text, replay_sweep_t *s)
+{
+    char extra;
+    if (sscanf(text, "%lf:%lf:%lf%c", &s->from_ms, &s->to_ms, &s->step_ms, &extra) != 3 ||
+        !isfinite(s->from_ms) || !isfinite(s->to_ms) || !isfinite(s->step_ms))
+        return pp5_fail(PP5_E_CONFIG, "--sweep-ms: expected FROM:TO:STEP in ms (e.g. 10:200:10), "
+                        "got '%s'", text);
+    return PP5_OK;
+}
+
+/* The sweep's default machine configurations, in the order asked. */
+static void default_machines(replay_sweep_t *s)
+{
+    static const char *const defaults[] = {"preset=gaze1990-literal", "gp.count=16", "gp.count=32",
+                                           "gp.count=32 ring.channels=16"};
+    if (s->n_machines == 1 && strcmp(s->machines[0], "none") == 0)
+        s->n_machines = 0;
+    else if (s->n_machines == 0)
+        for (size_t i = 0; i < sizeof defaults / sizeof defaults[0]; i++)
+            s->machines[s->n_machines++] = defaults[i];
+}
+
 static int cmd_replay(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -200,7 +256,10 @@ static int cmd_replay(int argc, char **argv)
         {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
         {"refresh-hz", required_argument, 0, 'R'}, {"gap-s", required_argument, 0, 'g'},
         {"frames-dir", required_argument, 0, 'F'}, {"live", required_argument, 0, 'L'},
-        {"seconds", required_argument, 0, 'S'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {"seconds", required_argument, 0, 'S'}, {"sweep-latency", no_argument, 0, 'W'},
+        {"sweep-ms", required_argument, 0, 'w'}, {"machine", required_argument, 0, 'M'},
+        {"machine-frames", required_argument, 0, 'm'}, {"help", no_argument, 0, 'h'},
+        {0, 0, 0, 0}};
     replay_params_t p;
     replay_defaults(&p);
     /* The emulated machine when it is built in (firmware/host/replay_machine.c
@@ -210,6 +269,9 @@ static int cmd_replay(int argc, char **argv)
         snprintf(cost_spec, sizeof cost_spec, "machine");
     const char *report = NULL, *csv = NULL, *plot = NULL, *frames_dir = NULL;
     const char *live = NULL, *live_seconds = "10";
+    bool sweep = false;
+    replay_sweep_t sw;
+    replay_sweep_defaults(&sw);
     pp5_status_t st = PP5_OK;
     double ms;
     long nf;
@@ -247,16 +309,20 @@ static int cmd_replay(int argc, char **argv)
             }
             break;
         case 'r': st = cliopt_double("--radius-deg", optarg, 0.01, 180, &p.fullres_radius_deg); break;
-        case 'p': {
-            predict_kind_t k;
-            if (!predict_kind_parse(optarg, &k))
-                st = pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta, "
-                              "kalman or landing, got '%s'", optarg);
-            else
-                predict_defaults(&p.predict, k);
-            break;
-        }
+        case 'p': st = parse_predict(optarg, &p.predict); break;
         case 'T': p.timing_only = true; break;
+        case 'W': sweep = true; break;
+        case 'w': st = parse_sweep_ms(optarg, &sw); break;
+        case 'M':
+            if (sw.n_machines >= REPLAY_SWEEP_MAX_MACHINES)
+                st = pp5_fail(PP5_E_CONFIG, "--machine: at most %d", REPLAY_SWEEP_MAX_MACHINES);
+            else
+                sw.machines[sw.n_machines++] = optarg;
+            break;
+        case 'm':
+            if ((st = cliopt_long("--machine-frames", optarg, 1, 10000, &nf)) == PP5_OK)
+                sw.machine_frames = (size_t)nf;
+            break;
         case 'n':
             if ((st = cliopt_long("--max-frames", optarg, 1, 100000000L, &nf)) == PP5_OK)
                 p.max_frames = (size_t)nf;
@@ -328,6 +394,12 @@ static int cmd_replay(int argc, char **argv)
     st = trace_read_file(path, &t);
     if (st != PP5_OK)
         return cliopt_report("replay", st);
+    if (sweep) {
+        default_machines(&sw);
+        st = replay_sweep_latency(&t, &p, &sw);
+        trace_free(&t);
+        return st == PP5_OK ? 0 : cliopt_report("replay", st);
+    }
     void *ctx = NULL;
     st = cs->open(cost_options, &p.display, &ctx);
     if (st != PP5_OK) {

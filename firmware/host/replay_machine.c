@@ -45,6 +45,9 @@ typedef struct {
     int width, height;
     char preset[64];
     char lighting[32];
+    /* set=KEY=VALUE items: machine settings as `pp5 machine --set` takes them */
+    char sets[PP5_PARAMS_MAX_SETS][128];
+    int n_sets;
 } machine_cost_opts_t;
 
 static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
@@ -53,7 +56,8 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
     o->width = o->height = 210;
     snprintf(o->preset, sizeof o->preset, "default");
     snprintf(o->lighting, sizeof o->lighting, "diffuse");
-    char buf[512];
+    o->n_sets = 0;
+    char buf[2048];
     if (strlen(text) >= sizeof buf)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: options too long");
     snprintf(buf, sizeof buf, "%s", text);
@@ -62,7 +66,7 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
         char *eq = strchr(item, '=');
         if (!eq)
             return pp5_fail(PP5_E_CONFIG, "--cost machine: expected KEY=VALUE, got '%s' "
-                            "(keys: volume, size, preset, lighting)", item);
+                            "(keys: volume, size, preset, lighting, set)", item);
         *eq = '\0';
         const char *key = item, *value = eq + 1;
         pp5_status_t st = PP5_OK;
@@ -73,13 +77,17 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
             st = cliopt_size2("--cost machine: size", value, 16, 1280, &o->width, &o->height);
         else if (strcmp(key, "preset") == 0)
             snprintf(o->preset, sizeof o->preset, "%s", value);
+        else if (strcmp(key, "set") == 0 && strchr(value, '=') && o->n_sets < PP5_PARAMS_MAX_SETS &&
+                 strlen(value) < sizeof o->sets[0])
+            snprintf(o->sets[o->n_sets++], sizeof o->sets[0], "%s", value);
         else if (strcmp(key, "lighting") == 0 &&
                  (strcmp(value, "diffuse") == 0 || strcmp(value, "specular") == 0 ||
                   strcmp(value, "moving") == 0))
             snprintf(o->lighting, sizeof o->lighting, "%s", value);
         else
             st = pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s=%s (volume=phantom|mrbrain, "
-                          "size=WxH, preset=NAME, lighting=diffuse|specular|moving)", key, value);
+                          "size=WxH, preset=NAME, lighting=diffuse|specular|moving, "
+                          "set=PARAM=VALUE)", key, value);
         if (st != PP5_OK)
             return st;
     }
@@ -156,7 +164,12 @@ static pp5_status_t machine_cost_open(const char *options, const gaze_geometry_t
     if (st == PP5_OK) {
         memset(&pcli, 0, sizeof pcli);
         pcli.preset = o.preset;
-        st = pp5_params_build(&pcli, &params);
+        for (int i = 0; i < o.n_sets && st == PP5_OK; i++)
+            st = pp5_params_cli_add_set(&pcli, o.sets[i]);
+        if (st == PP5_OK)
+            st = pp5_params_build(&pcli, &params);
+        if (st == PP5_OK)
+            st = pp5_params_validate(&params);
     }
     fw_options_t fo;
     fw_options_default(&fo);
@@ -206,7 +219,8 @@ static pp5_status_t machine_cost_frame(void *ctx, double gaze_x, double gaze_y,
 static const replay_cost_source_t machine_cost_source = {
     .name = "machine",
     .summary = "the emulated Pixel-Planes 5 running the gaze-directed renderer (options: "
-               "volume=phantom|mrbrain,size=WxH,preset=NAME,lighting=diffuse|specular|moving)",
+               "volume=phantom|mrbrain,size=WxH,preset=NAME,lighting=diffuse|specular|moving,"
+               "set=PARAM=VALUE as pp5 machine --set, repeatable)",
     .open = machine_cost_open,
     .cost = machine_cost_frame,
     .close = machine_cost_close,
