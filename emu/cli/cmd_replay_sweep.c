@@ -160,6 +160,11 @@ static pp5_status_t sweep_machines(const trace_t *t, const replay_params_t *p,
     for (int i = 0; i < s->n_machines; i++) {
         double frame_s;
         pp5_status_t st = machine_frame_time(t, p, s->machines[i], s->machine_frames, &frame_s);
+        if (st == PP5_E_FIRMWARE || st == PP5_E_RANGE) {
+            /* A configuration that cannot run the workload is a result too. */
+            printf("    %-44s cannot run it: %s\n", s->machines[i], pp5_error_text());
+            continue;
+        }
         replay_summary_t r;
         if (st == PP5_OK)
             st = replay_constant(t, p, frame_s, p->tracker_latency_s, p->display_latency_s, &r);
@@ -180,6 +185,8 @@ static pp5_status_t sweep_machines(const trace_t *t, const replay_params_t *p,
     if (first_hi >= 0)
         printf("  first to meet 70 ms (the tolerable range's upper end): %s\n",
                s->machines[first_hi]);
+    else if (fastest < 0)
+        printf("  none meets 70 ms: no configuration could run the workload\n");
     else
         printf("  none meets 70 ms: the fastest, %s, totals %.1f ms; with these tracker and "
                "display latencies a frame must take at most %.1f ms\n", s->machines[fastest],
