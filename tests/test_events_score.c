@@ -120,10 +120,16 @@ TEST(events_duration_statistics_by_hand)
     add_event(&l, 1, 15, 34);
     add_event(&l, 1, 35, 64);
     duration_stats_t d = {0};
-    duration_stats_add(&d, &l, 1);
+    duration_stats_add(&d, &l, 1, 0);
     CHECK_EQ(d.count, 3);
     CHECK_NEAR(duration_stats_mean_ms(&d), 40.0, 1e-9);
     CHECK_NEAR(duration_stats_sd_ms(&d), 20.0, 1e-9);
+    /* In a recording of 65 samples the first and last fixations touch its
+     * ends: only the 40 ms one is left. */
+    duration_stats_t inner = {0};
+    duration_stats_add(&inner, &l, 1, 65);
+    CHECK_EQ(inner.count, 1);
+    CHECK_NEAR(duration_stats_mean_ms(&inner), 40.0, 1e-9);
     duration_stats_t none = {0};
     CHECK(isnan(duration_stats_mean_ms(&none)));
     events_list_free(&l);

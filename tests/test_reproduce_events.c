@@ -42,11 +42,13 @@ TEST(reproduce_events_split_keeps_subjects_apart)
 
 TEST(reproduce_events_coder_counts_match_the_study)
 {
-    /* Andersson et al. 2017 Tables 4-5 (saccades, PSOs; all files) as
-     * transcribed in reproduce_events.c: MN/RA saccades 376/372 (images),
-     * 47/47 (dots), 116/126 (video); PSOs 312/309, 33/28, 97/89.  pp5 reads
-     * the labels independently; the counts must agree within 1 % + 1. */
-    static const int want[2][2][STIM_COUNT] = {{{376, 47, 116}, {372, 47, 126}},
+    /* Andersson et al. 2017 Tables 3-5 (fixations, saccades, PSOs; all files)
+     * as transcribed in reproduce_events.c: MN/RA fixations 380/369
+     * (images), 2/13 (dots), 67/67 (video); saccades 376/372, 47/47, 116/126;
+     * PSOs 312/309, 33/28, 97/89.  pp5 reads the labels independently; the
+     * counts must agree within 1 % + 1. */
+    static const int want[3][2][STIM_COUNT] = {{{380, 2, 67}, {369, 13, 67}},
+                                               {{376, 47, 116}, {372, 47, 126}},
                                                {{312, 33, 97}, {309, 28, 89}}};
     lund_set_t set;
     if (!load(&set))
@@ -54,13 +56,20 @@ TEST(reproduce_events_coder_counts_match_the_study)
     static lund_tally_t t;
     t.n_methods = 0;
     REQUIRE(lund_score(&set, SPLIT_ALL, &t) == PP5_OK);
-    for (int c = 0; c < 2; c++)          /* lund_classes[1] saccade, [2] PSO */
+    for (int c = 0; c < 3; c++)          /* lund_classes: fixation, saccade, PSO */
         for (int r = 0; r < 2; r++)
             for (int s = 0; s < STIM_COUNT; s++) {
-                long got = (long)t.dur[s][c + 1][r].count, w = want[c][r][s];
+                long got = (long)t.dur[s][c][r].count, w = want[c][r][s];
                 CHECK_MSG(labs(got - w) <= w / 100 + 1, "%s %s %s: %ld events, the study %ld",
-                          r ? "RA" : "MN", c ? "PSO" : "saccade", lund_stim_names[s], got, w);
+                          r ? "RA" : "MN", events_class_name(lund_classes[c]),
+                          lund_stim_names[s], got, w);
             }
+    /* The study's mean fixation durations, MN: 248 ms (images), 161 (dots),
+     * 318 (video); pp5 gets them when every sample counts 2 ms, as the study's
+     * 500 Hz field says even for the three 200 Hz files. */
+    CHECK_NEAR(duration_stats_mean_ms(&t.dur_at_500hz[STIM_IMG][0][RATER_MN]), 248, 1.0);
+    CHECK_NEAR(duration_stats_mean_ms(&t.dur_at_500hz[STIM_DOTS][0][RATER_MN]), 161, 1.0);
+    CHECK_NEAR(duration_stats_mean_ms(&t.dur_at_500hz[STIM_VIDEO][0][RATER_MN]), 318, 1.0);
     lund_free(&set);
 }
 

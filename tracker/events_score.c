@@ -130,10 +130,11 @@ double f1_of_counts(const f1_counts_t *f)
     return d ? 2.0 * (double)f->tp / (double)d : NAN;
 }
 
-void duration_stats_add(duration_stats_t *d, const events_list_t *l, int cls)
+void duration_stats_add(duration_stats_t *d, const events_list_t *l, int cls, size_t n_samples)
 {
     for (size_t i = 0; i < l->count; i++)
-        if (l->events[i].cls == cls) {
+        if (l->events[i].cls == cls &&
+            !(n_samples && (l->events[i].first == 0 || l->events[i].last + 1 >= n_samples))) {
             d->count++;
             d->sum_s += l->events[i].duration_s;
             d->sum2_s += l->events[i].duration_s * l->events[i].duration_s;

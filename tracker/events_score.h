@@ -11,7 +11,10 @@
  * of that class in the other that it overlaps most (in samples), each event
  * at most once, greedily from the largest overlap (ties: earliest events);
  * F1 = 2 TP / (2 TP + FP + FN).
- * Durations: count, mean and sample standard deviation (n - 1) per class. */
+ * Durations: count, mean and sample standard deviation (n - 1) per class;
+ * optionally without the events cut by the recording's first or last sample
+ * (the study counts that way: with the rule, pp5's counts of the coders'
+ * fixations are the study's, 381/2/67 against 380/2/67 for coder MN). */
 #ifndef PP5_EVENTS_SCORE_H
 #define PP5_EVENTS_SCORE_H
 
@@ -43,7 +46,8 @@ typedef struct {
     double sum_s, sum2_s;
 } duration_stats_t;
 
-void duration_stats_add(duration_stats_t *d, const events_list_t *l, int cls);
+/* n_samples > 0: skip events touching sample 0 or n_samples - 1. */
+void duration_stats_add(duration_stats_t *d, const events_list_t *l, int cls, size_t n_samples);
 double duration_stats_mean_ms(const duration_stats_t *d);   /* NaN when empty */
 double duration_stats_sd_ms(const duration_stats_t *d);     /* NaN below 2 events */
 

@@ -77,7 +77,7 @@ static void print_counts(const events_result_t *r)
 {
     for (int c = 1; c <= EVENTS_CLASS_MAX; c++) {
         duration_stats_t d = {0};
-        duration_stats_add(&d, &r->list, c);
+        duration_stats_add(&d, &r->list, c, 0);
         if (d.count)
             printf("  %-9s %5zu events, mean %6.1f ms, sd %6.1f ms\n", events_class_name(c),
                    d.count, duration_stats_mean_ms(&d), duration_stats_sd_ms(&d));

@@ -41,6 +41,9 @@ typedef struct {
     kappa_counts_t kappa[STIM_COUNT][LUND_CLASSES][LUND_MAX_RATERS][2];
     f1_counts_t f1[STIM_COUNT][LUND_CLASSES][LUND_MAX_RATERS][2];
     duration_stats_t dur[STIM_COUNT][LUND_CLASSES][LUND_MAX_RATERS];
+    /* the coders' events again, each sample counted as 2 ms: how the study
+     * timed them (its three 200 Hz files claim 500 Hz, reproduce_events.c) */
+    duration_stats_t dur_at_500hz[STIM_COUNT][LUND_CLASSES][2];
     size_t files[STIM_COUNT], samples[STIM_COUNT];
 } lund_tally_t;
 

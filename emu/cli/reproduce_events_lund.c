@@ -156,6 +156,20 @@ bool lund_in_split(const lund_file_t *f, lund_split_t split)
 
 /* ------------------------------------------------------------------ scoring */
 
+/* Durations as samples x 2 ms, events cut by the recording's ends left out. */
+static void add_at_500hz(duration_stats_t *d, const events_list_t *l, int cls, size_t n)
+{
+    for (size_t i = 0; i < l->count; i++) {
+        const gaze_event_t *e = &l->events[i];
+        if (e->cls != cls || e->first == 0 || e->last + 1 >= n)
+            continue;
+        double s = (double)(e->last - e->first + 1) * 0.002;
+        d->count++;
+        d->sum_s += s;
+        d->sum2_s += s * s;
+    }
+}
+
 static pp5_status_t score_raters(const lund_file_t *f, int n_raters, int *const *labels,
                                  const events_list_t *lists, lund_tally_t *t)
 {
@@ -164,7 +178,9 @@ static pp5_status_t score_raters(const lund_file_t *f, int n_raters, int *const 
     for (int c = 0; c < LUND_CLASSES && st == PP5_OK; c++) {
         int cls = lund_classes[c];
         for (int r = 0; r < n_raters && st == PP5_OK; r++) {
-            duration_stats_add(&t->dur[f->stim][c][r], &lists[r], cls);
+            duration_stats_add(&t->dur[f->stim][c][r], &lists[r], cls, n);
+            if (r < 2)
+                add_at_500hz(&t->dur_at_500hz[f->stim][c][r], &lists[r], cls, n);
             for (int ref = 0; ref < 2 && st == PP5_OK; ref++) {
                 if (r == ref)
                     continue;
