@@ -125,7 +125,10 @@ static void import_usage(FILE *out)
         "  --to paper               carry the gaze through visual angle onto the paper's\n"
         "                           display (19 in monitor at 20 in, 1280x1024, 37 deg wide);\n"
         "                           default: keep the recording's display\n"
-        "  --out FILE               the trace to write\n");
+        "  --out FILE               the trace to write\n"
+        "Example:\n"
+        "  pp5 trace import ../shared/data/gaze/lund2013/trace/img/UL23_img_Europe.tsv.gz \\\n"
+        "      --format shared --label-column label_RA --out ul23_ra.trace\n");
 }
 
 static int cmd_import(int argc, char **argv)
