@@ -371,18 +371,12 @@ void events_list_free(events_list_t *l)
 
 pp5_status_t events_list_append(events_list_t *l, const gaze_event_t *e)
 {
-    if (l->count == l->capacity) {
-        size_t cap = l->capacity ? 2 * l->capacity : 64, bytes;
-        if (!pp5_mul_size(cap, sizeof *l->events, &bytes))
-            return pp5_fail(PP5_E_NOMEM, "too many events");
-        gaze_event_t *grown = realloc(l->events, bytes);
-        if (!grown)
-            return pp5_fail(PP5_E_NOMEM, "out of memory for %zu events", cap);
-        l->events = grown;
-        l->capacity = cap;
-    }
-    l->events[l->count++] = *e;
-    return PP5_OK;
+    void *items = l->events;
+    pp5_status_t st = pp5_grow(&items, &l->capacity, l->count, sizeof *l->events, "events");
+    l->events = items;
+    if (st == PP5_OK)
+        l->events[l->count++] = *e;
+    return st;
 }
 
 static void describe_event(const trace_t *t, const events_signal_t *s, gaze_event_t *e)

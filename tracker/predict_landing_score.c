@@ -18,16 +18,12 @@ void landing_truth_free(landing_truth_list_t *l)
 
 pp5_status_t landing_truth_append(landing_truth_list_t *l, const landing_truth_t *s)
 {
-    if (l->count == l->capacity) {
-        size_t cap = l->capacity ? 2 * l->capacity : 64;
-        landing_truth_t *grown = realloc(l->saccades, cap * sizeof *grown);
-        if (!grown)
-            return pp5_fail(PP5_E_NOMEM, "out of memory for %zu saccades", cap);
-        l->saccades = grown;
-        l->capacity = cap;
-    }
-    l->saccades[l->count++] = *s;
-    return PP5_OK;
+    void *items = l->saccades;
+    pp5_status_t st = pp5_grow(&items, &l->capacity, l->count, sizeof *l->saccades, "saccades");
+    l->saccades = items;
+    if (st == PP5_OK)
+        l->saccades[l->count++] = *s;
+    return st;
 }
 
 /* Mean gaze over the 20 ms from sample k on; false if a sample is missing. */
@@ -99,16 +95,12 @@ typedef struct {
 
 static pp5_status_t push_flight(flights_t *f, const flight_t *x)
 {
-    if (f->count == f->capacity) {
-        size_t cap = f->capacity ? 2 * f->capacity : 64;
-        flight_t *grown = realloc(f->v, cap * sizeof *grown);
-        if (!grown)
-            return pp5_fail(PP5_E_NOMEM, "out of memory");
-        f->v = grown;
-        f->capacity = cap;
-    }
-    f->v[f->count++] = *x;
-    return PP5_OK;
+    void *items = f->v;
+    pp5_status_t st = pp5_grow(&items, &f->capacity, f->count, sizeof *f->v, "flights");
+    f->v = items;
+    if (st == PP5_OK)
+        f->v[f->count++] = *x;
+    return st;
 }
 
 /* Plays the trace through the predictor and records every flight. */

@@ -159,18 +159,12 @@ static void record_saccade(sim_t *s, double v, bool micro)
     synth_truth_t *tr = s->truth;
     if (!tr || s->truth_failed)
         return;
-    if (tr->count == tr->capacity) {
-        size_t cap = tr->capacity ? 2 * tr->capacity : 64, bytes;
-        synth_saccade_t *grown = NULL;
-        if (pp5_mul_size(cap, sizeof *grown, &bytes))
-            grown = realloc(tr->saccades, bytes);
-        if (!grown) {
-            s->truth_failed = true;
-            return;
-        }
-        tr->saccades = grown;
-        tr->capacity = cap;
-    }
+    void *items = tr->saccades;
+    s->truth_failed = pp5_grow(&items, &tr->capacity, tr->count, sizeof *tr->saccades,
+                               "saccades") != PP5_OK;
+    tr->saccades = items;
+    if (s->truth_failed)
+        return;
     synth_saccade_t *e = &tr->saccades[tr->count++];
     e->t_start_s = s->s_t0;
     e->t_end_s = s->s_t0 + s->s_dur;
