@@ -141,6 +141,9 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_kv_double(&j, "refresh_hz", p->refresh_hz);
     json_kv_double(&j, "gap_s", p->gap_s);
     json_kv_string(&j, "predict", predict_kind_name(p->predict.kind));
+    if (p->predict.kind == PREDICT_LANDING)
+        json_kv_string(&j, "predict_outside_saccades",
+                       predict_kind_name(p->predict.landing_fallback));
     json_kv_bool(&j, "timing_only", p->timing_only);
     json_key(&j, "summary");
     json_begin_object(&j);

@@ -203,6 +203,9 @@ pp5_status_t replay_sweep_latency(const trace_t *t, const replay_params_t *p,
           (s->to_ms - s->from_ms) / s->step_ms <= 1000))
         return pp5_fail(PP5_E_CONFIG, "--sweep-ms: need 0 < FROM <= TO <= 10000 and STEP > 0 "
                         "(at most 1000 points)");
+    if (t->count < 2)
+        return pp5_fail(PP5_E_RANGE, "replay needs at least 2 samples, the trace has %zu",
+                        t->count);
     printf("latency sweep of %s (%s)\n", t->header.source, t->header.tracker);
     pp5_status_t st = sweep_curve(t, p, s);
     if (st == PP5_OK && s->n_machines > 0)
