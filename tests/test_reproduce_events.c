@@ -87,4 +87,9 @@ TEST(reproduce_events_runs_and_reports_the_held_out_files)
     CHECK(strstr(text, "Event-level F1") != NULL);
     free(text);
     CHECK_EQ(pp5_test_run_cli("reproduce events --split sideways", NULL, NULL), 2);
+    REQUIRE(pp5_test_run_cli("reproduce events --landing", out, NULL) == 0);
+    text = pp5_test_read_file(out);
+    REQUIRE(text);
+    CHECK(strstr(text, "Landing prediction") && strstr(text, "held-out files"));
+    free(text);
 }

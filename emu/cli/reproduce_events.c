@@ -188,7 +188,7 @@ static void print_durations(const lund_tally_t *ours, const lund_tally_t *all_fi
 
 static void reproduce_events_usage(void)
 {
-    printf("usage: pp5 reproduce events [--split test|tune|all] [--tune]\n\n"
+    printf("usage: pp5 reproduce events [--split test|tune|all] [--tune] [--landing]\n\n"
            "Scores pp5's event detectors (ivt, idt, adaptive; tracker/events.h) against the two\n"
            "human coders of lund2013 (../shared/data/gaze/lund2013: images, moving dots, video,\n"
            "500 Hz), beside the coders' agreement with each other and the figures of Andersson et\n"
@@ -198,6 +198,8 @@ static void reproduce_events_usage(void)
            "the scores are on the other files (reproduce_events_lund.c, tracker/ARCHITECTURE.md).\n"
            "  --split S   test: the held-out files (default); tune: the tuning files; all\n"
            "  --tune      rerun the threshold search on the tuning files and print it\n"
+           "  --landing   instead: the landing predictor's error per amplitude bin against\n"
+           "              coder MN's landings (replay --predict landing)\n"
            "Example: pp5 reproduce events\n");
 }
 
@@ -232,9 +234,10 @@ static int reproduce_events(const pp5_reproduce_opts_t *o)
 {
     static const struct option opts[] = {{"split", required_argument, 0, 's'},
                                          {"tune", no_argument, 0, 't'},
+                                         {"landing", no_argument, 0, 'l'},
                                          {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     lund_split_t split = SPLIT_TEST;
-    bool tune = false;
+    bool tune = false, landing = false;
     int c;
     optind = 1;
     while ((c = getopt_long(o->argc, o->argv, "h", opts, NULL)) != -1) {
@@ -247,6 +250,7 @@ static int reproduce_events(const pp5_reproduce_opts_t *o)
                                       "tune or all, got '%s'", optarg));
             break;
         case 't': tune = true; break;
+        case 'l': landing = true; break;
         case 'h': reproduce_events_usage(); return 0;
         default: reproduce_events_usage(); return 2;
         }
@@ -257,8 +261,8 @@ static int reproduce_events(const pp5_reproduce_opts_t *o)
     pp5_status_t st = lund_load(root, &set);
     if (st != PP5_OK)
         return cliopt_report("reproduce events", st);
-    if (tune) {
-        st = lund_tune(&set);
+    if (tune || landing) {
+        st = tune ? lund_tune(&set) : lund_landing(&set, split);
         lund_free(&set);
         return st == PP5_OK ? 0 : cliopt_report("reproduce events", st);
     }

@@ -60,5 +60,8 @@ bool lund_in_split(const lund_file_t *f, lund_split_t split);
 pp5_status_t lund_score(const lund_set_t *set, lund_split_t split, lund_tally_t *t);
 /* `pp5 reproduce events --tune`: the grid searches, on the tuning files only. */
 pp5_status_t lund_tune(const lund_set_t *set);
+/* `pp5 reproduce events --landing`: the landing predictor against coder MN's
+ * landings on the files of a split, per amplitude bin. */
+pp5_status_t lund_landing(const lund_set_t *set, lund_split_t split);
 
 #endif

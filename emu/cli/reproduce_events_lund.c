@@ -474,3 +474,72 @@ pp5_status_t lund_tune(const lund_set_t *set)
         st = tune_landing(set);
     return st;
 }
+
+/* ------------------------------------------------------------------ landing */
+
+/* The files of a split one after another, each 1 s after the last (longer
+ * than the predictor's gap reset, so it starts afresh), with MN's labels;
+ * all lund2013 files share one display. */
+static pp5_status_t concatenate(const lund_set_t *set, lund_split_t split, trace_t *out,
+                                int **labels)
+{
+    trace_init(out);
+    *labels = NULL;
+    size_t n = 0, k = 0;
+    for (size_t i = 0; i < set->count; i++)
+        if (lund_in_split(&set->files[i], split))
+            n += set->files[i].mn.count;
+    if (!n || !(*labels = malloc(n * sizeof **labels)))
+        return pp5_fail(PP5_E_NOMEM, "out of memory");
+    int64_t offset = 0;
+    pp5_status_t st = PP5_OK;
+    for (size_t i = 0; i < set->count && st == PP5_OK; i++) {
+        const trace_t *t = &set->files[i].mn;
+        if (!lund_in_split(&set->files[i], split))
+            continue;
+        if (!out->count)
+            out->header = t->header;
+        for (size_t j = 0; j < t->count && st == PP5_OK; j++) {
+            gaze_sample_t s = t->samples[j];
+            s.t_ns += offset;
+            (*labels)[k++] = s.label;
+            st = trace_append(out, &s);
+        }
+        offset = out->samples[out->count - 1].t_ns + 1000000000;
+    }
+    return st;
+}
+
+pp5_status_t lund_landing(const lund_set_t *set, lund_split_t split)
+{
+    trace_t all;
+    int *labels;
+    pp5_status_t st = concatenate(set, split, &all, &labels);
+    landing_truth_list_t truth = {0};
+    landing_report_t rep;
+    landing_params_t lp;
+    landing_defaults(&lp);
+    if (st == PP5_OK)
+        st = landing_truth_from_labels(&all, labels, &truth);
+    if (st == PP5_OK)
+        st = landing_evaluate(&all, &lp, 0.05, &truth, &rep);
+    if (st == PP5_OK) {
+        printf("Landing prediction (tracker/predict_landing.h, defaults) on the %s files of "
+               "lund2013, against coder MN's landings:\n", split == SPLIT_TEST ? "held-out"
+               : split == SPLIT_TUNE ? "tuning" : "");
+        printf("  %-10s %8s %9s %14s %13s %14s %18s\n", "amplitude", "saccades", "predicted",
+               "mean err (deg)", "p95 err (deg)", "last err (deg)", "newest sample (deg)");
+        for (int b = 0; b < LANDING_BINS; b++)
+            printf("  %4.0f-%-5.0f %8zu %9zu %14.2f %13.2f %14.2f %18.2f\n", landing_bin_edges[b],
+                   landing_bin_edges[b + 1], rep.saccades[b], rep.predicted[b],
+                   rep.mean_err_deg[b], rep.p95_err_deg[b], rep.mean_last_err_deg[b],
+                   rep.mean_hold_err_deg[b]);
+        printf("  (first estimate after the peak, its 95th percentile, the last estimate in flight,"
+               " and the newest sample when the first estimate came; %zu detections matched no "
+               "saccade)\n", rep.false_alarms);
+    }
+    landing_truth_free(&truth);
+    free(labels);
+    trace_free(&all);
+    return st;
+}
