@@ -2,8 +2,8 @@
  * "An adaptive algorithm for fixation, saccade, and glissade detection in
  * eyetracking data", Behavior Research Methods 42(1):188-204.  Written here
  * from the paper's description (§"Method"), not from any implementation:
- *  1. Speed and acceleration from a Savitzky-Golay filter (quadratic, window
- *     twice the shortest saccade, 20 ms).  Samples faster than 1000 deg/s or
+ *  1. Speed and acceleration from a Savitzky-Golay filter (quadratic; the
+ *     paper's window is twice the shortest saccade, 20 ms).  Samples faster than 1000 deg/s or
  *     accelerating above 100000 deg/s^2 are noise.
  *  2. Peak threshold, found from the data: start at 100 deg/s; take the mean
  *     and standard deviation of the samples slower than the threshold; the new
@@ -23,9 +23,13 @@
  *     pso_min_rate_hz (events.c).
  *  5. The rest is fixation (noise samples are "undefined"); fixations shorter
  *     than 40 ms are dropped (events.c).
- * Deviations: the thresholds are computed once per trace, not per trial
+ * Deviations: the filter window is 10 ms (chosen on the lund2013 tuning
+ * files, events.c); the thresholds are computed once per trace, not per trial
  * (pp5 traces hold one trial or one recording); the filter assumes uniform
- * sampling at the effective rate. */
+ * sampling at the effective rate; afterwards the saccade edges settle on the
+ * unfiltered speed (events_settle_saccade_edges), since the filter spreads a
+ * saccade by half its window on each side.  Optional (nh_robust, off): median
+ * and MAD in place of mean and sd; it scored lower on the tuning files. */
 #include "events_internal.h"
 
 #include <stdlib.h>
