@@ -215,8 +215,8 @@ TEST(events_cli_writes_tsv_and_sidecar_and_rejects_bad_input)
     snprintf(out, sizeof out, "%s/s.tsv", dir);
     snprintf(side, sizeof side, "%s/s.json", dir);
     snprintf(log, sizeof log, "%s/log.txt", dir);
-    snprintf(args, sizeof args, "trace synth --mode saccades --seconds 3 --rate 500 --out '%s/s.trace'",
-             dir);
+    snprintf(args, sizeof args, "trace synth --mode saccades --seconds 3 --rate 500 "
+             "--out '%s/s.trace'", dir);
     REQUIRE(pp5_test_run_cli(args, NULL, NULL) == 0);
     for (int m = 0; m < 3; m++) {
         snprintf(args, sizeof args, "trace events '%s/s.trace' --method %s --out '%s'", dir,

@@ -78,7 +78,9 @@ pp5_status_t f1_counts_add(f1_counts_t *f, const events_list_t *ref, const event
     size_t *r = of_class(ref, cls, &nr), *t = of_class(test, cls, &nt);
     pair_t *pairs = NULL;
     bool *used_r = calloc(nr + 1, 1), *used_t = calloc(nt + 1, 1);
-    pp5_status_t st = r && t && used_r && used_t ? PP5_OK : pp5_fail(PP5_E_NOMEM, "F1: out of memory");
+    pp5_status_t st = PP5_OK;
+    if (!r || !t || !used_r || !used_t)
+        st = pp5_fail(PP5_E_NOMEM, "F1: out of memory");
     /* Events are in time order: walk both lists once for overlapping pairs. */
     size_t j0 = 0;
     for (size_t i = 0; st == PP5_OK && i < nr; i++) {

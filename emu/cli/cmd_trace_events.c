@@ -161,8 +161,8 @@ int cmd_trace_events(int argc, char **argv)
         if (st == PP5_OK && labels_out)
             st = write_labels(labels_out, &t, &r);
         if (st == PP5_OK) {
-            printf("%s: %zu events by %s at %.1f Hz", outp, r.list.count, events_method_name(method),
-                   r.rate_hz);
+            printf("%s: %zu events by %s at %.1f Hz", outp, r.list.count,
+                   events_method_name(method), r.rate_hz);
             if (method == EVENTS_ADAPTIVE)
                 printf(" (peak threshold %.1f deg/s, onset %.1f deg/s, PSO %s)",
                        r.peak_threshold_dps, r.onset_threshold_dps, r.pso_detected ? "on" : "off");

@@ -176,7 +176,7 @@ static void print_durations(const lund_tally_t *ours, const lund_tally_t *all_fi
             print_study_rows(study[c]);
         }
     }
-      printf("  Notes: events cut by a recording's first or last sample are left out, as the study\n"
+    printf("  Notes: events cut by a recording's first or last sample are left out, as the study\n"
            "  does (inferred: with that rule pp5's counts of the coders' events are the study's).\n"
            "  Durations are samples x sample interval.  Where pp5 and the study disagree, the\n"
            "  study counts every sample as 2 ms: its image and video durations treat the three\n"
@@ -277,8 +277,8 @@ static int reproduce_events(const pp5_reproduce_opts_t *o)
         st = lund_score(&set, SPLIT_ALL, &all_files);
     if (st == PP5_OK) {
         print_header(&set, split, &ours);
-        printf("\nSample-level Cohen's kappa (each class against the rest, summed over the files of "
-               "a stimulus type, as the study computes it):\n");
+        printf("\nSample-level Cohen's kappa (each class against the rest, summed over the files "
+               "of a stimulus type, as the study computes it):\n");
         print_agreement(&ours, false);
         printf(KAPPA_NOTE);
         printf("\nEvent-level F1 (events matched one to one by largest overlap, Hooge et al. "
