@@ -114,6 +114,10 @@ static void print_agreement(const lund_tally_t *t, bool f1)
             }
             printf("\n");
         }
+        if (!f1 && lund_classes[c] <= GAZE_LABEL_PSO)
+            printf("  %-9s %-20s not found (see below)\n", "", "the study's 10 algs");
+        if (!f1 && lund_classes[c] == GAZE_LABEL_PURSUIT)
+            printf("  %-9s %-20s none: they detect no pursuit\n", "", "the study's 10 algs");
     }
 }
 
