@@ -33,8 +33,10 @@ PREDICTORS=${PREDICTORS:-none linear alphabeta kalman landing}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
+FRAMES="all frames"
+[ -n "${MAX_FRAMES:-}" ] && FRAMES="the first $MAX_FRAMES frames of each recording"
 echo "# $("$PP5" version 2>/dev/null | head -n 1); cost $COST; tracker $TRK ms, display $DISP ms;" \
-     "${MAX_FRAMES:+first $MAX_FRAMES frames per recording}${MAX_FRAMES:-all frames}"
+     "$FRAMES"
 printf '%-34s %7s %-14s %9s %9s %8s %9s\n' source seconds predict mean_deg p95_deg inside frame_ms
 row() {   # name, file list
     name=$1; shift
