@@ -52,3 +52,29 @@ TEST(replay_machine_rejects_bad_options)
     CHECK(cs->open("nonsense", &display, &ctx) == PP5_E_CONFIG);
     CHECK(cs->open("preset=no-such-preset", &display, &ctx) != PP5_OK);
 }
+
+TEST(replay_machine_takes_machine_settings)
+{
+    /* set=PARAM=VALUE reaches the machine: the GPs at half their clock make
+     * a slower frame than the default; a setting the table refuses is an
+     * error naming it. */
+    const replay_cost_source_t *cs = machine_source();
+    gaze_geometry_t display;
+    angles_paper_geometry(&display);
+    double frame[2];
+    for (int k = 0; k < 2; k++) {
+        void *ctx = NULL;
+        REQUIRE_MSG(cs->open(k ? "size=48x48,set=gp.clock_hz=20e6" : "size=48x48", &display,
+                             &ctx) == PP5_OK, "%s", pp5_error_text());
+        replay_frame_cost_t c = {.want_image = false};
+        REQUIRE(cs->cost(ctx, 0.5 * display.width_px, 0.5 * display.height_px, &c) == PP5_OK);
+        frame[k] = c.frame_s;
+        cs->close(ctx);
+    }
+    CHECK_MSG(frame[1] > frame[0], "20 MHz GPs %g s, 40 MHz %g s", frame[1], frame[0]);
+    void *ctx = NULL;
+    CHECK(cs->open("size=48x48,set=gp.count=99", &display, &ctx) == PP5_E_CONFIG);
+    CHECK(strstr(pp5_error_text(), "gp.count") != NULL);
+    CHECK(cs->open("size=48x48,set=no.such.param=1", &display, &ctx) != PP5_OK);
+    CHECK(cs->open("size=48x48,set=gp.count", &display, &ctx) == PP5_E_CONFIG);
+}

@@ -119,3 +119,21 @@ TEST(util_fail_may_wrap_the_previous_message)
     CHECK_MSG(strcmp(pp5_error_text(), "/dev/hidraw0: byte 12 is bad") == 0, "got '%s'",
               pp5_error_text());
 }
+
+TEST(util_grow_doubles_and_refuses_overflow)
+{
+    void *items = NULL;
+    size_t cap = 0;
+    REQUIRE(pp5_grow(&items, &cap, 0, sizeof(int), "ints") == PP5_OK);
+    CHECK_EQ(cap, 64);
+    void *first = items;
+    REQUIRE(pp5_grow(&items, &cap, 10, sizeof(int), "ints") == PP5_OK);
+    CHECK(cap == 64 && items == first);            /* room left: nothing moves */
+    REQUIRE(pp5_grow(&items, &cap, 64, sizeof(int), "ints") == PP5_OK);
+    CHECK_EQ(cap, 128);
+    size_t huge = (size_t)1 << 62;
+    CHECK(pp5_grow(&items, &huge, huge, 16, "ints") == PP5_E_NOMEM);
+    CHECK(strstr(pp5_error_text(), "too many ints") != NULL);
+    CHECK_EQ(huge, (size_t)1 << 62);
+    free(items);
+}

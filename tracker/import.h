@@ -27,6 +27,9 @@ typedef struct {
     double pupil_min_confidence;
     /* EyeLink binocular: which eye ('L', 'R', or 0 = mean of the eyes with data). */
     char eye;
+    /* gaze-trace v1: the column that holds the labels (NULL = "label"; Lund's
+     * second coder is "label_RA"); a named column that is absent is an error. */
+    const char *label_column;
 } import_options_t;
 
 void import_defaults(import_options_t *o);

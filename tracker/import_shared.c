@@ -5,9 +5,10 @@
  *   "unknown", distance_mm or "unknown"; px_per_deg or eyelink_res_px_per_deg
  *   (first number) stand in for unknown physical geometry); one tab-separated
  *   column line starting t_ms x_px y_px; data lines, time never decreasing,
- *   "nan" for missing gaze; optional integer `label` (5 = blink).
- * Other columns (label_RA, block, per-eye positions, confidence, pupil) are
- * not needed for replay and are skipped. */
+ *   "nan" for missing gaze; optional integer `label` (5 = blink), or the
+ *   labels of another column (import_options_t.label_column, e.g. label_RA).
+ * Other columns (block, per-eye positions, confidence, pupil) are not needed
+ * for replay and are skipped. */
 #include "import.h"
 
 #include <math.h>
@@ -127,11 +128,15 @@ pp5_status_t import_shared(const char *text, size_t len, const char *name,
         if (ncols < 3 || strcmp(f[0], "t_ms") != 0)
             st = pp5_fail(PP5_E_FORMAT, "%s:%d: column line must start t_ms x_px y_px", name,
                           lineno);
+        const char *want = o->label_column ? o->label_column : "label";
         for (int i = 0; st == PP5_OK && i < ncols; i++) {
             if (strcmp(f[i], "x_px") == 0) col_x = i;
             if (strcmp(f[i], "y_px") == 0) col_y = i;
-            if (strcmp(f[i], "label") == 0) col_label = i;
+            if (strcmp(f[i], want) == 0) col_label = i;
         }
+        if (st == PP5_OK && o->label_column && col_label < 0)
+            st = pp5_fail(PP5_E_FORMAT, "%s:%d: no label column '%s'", name, lineno,
+                          o->label_column);
         if (st == PP5_OK && (col_x != 1 || col_y != 2))
             st = pp5_fail(PP5_E_FORMAT, "%s:%d: columns 2 and 3 must be x_px and y_px", name,
                           lineno);

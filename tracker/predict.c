@@ -12,13 +12,16 @@ void predict_defaults(predict_params_t *p, predict_kind_t kind)
     p->accel_sigma_dps2 = 1000.0;
     p->max_speed_dps = 200.0;
     p->gap_reset_s = 0.050;
+    landing_defaults(&p->landing);
+    p->landing_fallback = PREDICT_NONE;
 }
 
-static const char *const kind_names[] = {"none", "linear", "alphabeta", "kalman"};
+static const char *const kind_names[] = {"none", "linear", "alphabeta", "kalman", "landing"};
+#define KIND_COUNT (int)(sizeof kind_names / sizeof kind_names[0])
 
 bool predict_kind_parse(const char *name, predict_kind_t *kind)
 {
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < KIND_COUNT; i++)
         if (strcmp(name, kind_names[i]) == 0) {
             *kind = (predict_kind_t)i;
             return true;
@@ -28,7 +31,13 @@ bool predict_kind_parse(const char *name, predict_kind_t *kind)
 
 const char *predict_kind_name(predict_kind_t kind)
 {
-    return (unsigned)kind < 4 ? kind_names[kind] : "?";
+    return (unsigned)kind < (unsigned)KIND_COUNT ? kind_names[kind] : "?";
+}
+
+/* The filter that runs outside saccades (all of the time, for the classic kinds). */
+static predict_kind_t base_kind(const predict_params_t *p)
+{
+    return p->kind == PREDICT_LANDING ? p->landing_fallback : p->kind;
 }
 
 void predict_reset(predictor_t *pr, const predict_params_t *p)
@@ -129,11 +138,16 @@ void predict_update(predictor_t *pr, double t_s, double x_deg, double y_deg)
 {
     if (!pr->have || t_s - pr->last_t > pr->p.gap_reset_s || t_s < pr->last_t) {
         start_at(pr, t_s, x_deg, y_deg);
+        if (pr->p.kind == PREDICT_LANDING)
+            landing_update(&pr->landing, &pr->p.landing, t_s, x_deg, y_deg);
         return;
     }
     double dt = t_s - pr->last_t;
     double z[2] = {x_deg, y_deg};
-    switch (pr->p.kind) {
+    if (pr->p.kind == PREDICT_LANDING)
+        landing_update(&pr->landing, &pr->p.landing, t_s, x_deg, y_deg);
+    switch (base_kind(&pr->p)) {
+    case PREDICT_LANDING:
     case PREDICT_NONE:
         pr->x[0] = x_deg;
         pr->x[1] = y_deg;
@@ -155,11 +169,19 @@ bool predict_at(const predictor_t *pr, double t_s, double *x_deg, double *y_deg)
 {
     if (!pr->have)
         return false;
+    double lx, ly, t_end, amp;
+    if (pr->p.kind == PREDICT_LANDING &&
+        landing_estimate(&pr->landing, &lx, &ly, &t_end, &amp) && t_s >= t_end) {
+        *x_deg = lx;           /* shown after the saccade ends: where it lands */
+        *y_deg = ly;
+        return true;
+    }
     double h = t_s - pr->last_t;
     if (h < 0)
         h = 0;
     double vx = pr->v[0], vy = pr->v[1];
-    if (pr->p.kind == PREDICT_NONE)
+    predict_kind_t k = base_kind(&pr->p);
+    if (k == PREDICT_NONE || k == PREDICT_LANDING)
         vx = vy = 0;
     double speed = sqrt(vx * vx + vy * vy);
     if (speed > pr->p.max_speed_dps)

@@ -9,6 +9,11 @@
  *              lambda = accel_sigma * dt^2 / noise_sigma (Kalata 1984 relations)
  *   kalman     constant-velocity Kalman filter per axis, white-acceleration
  *              process noise, with the covariance propagated over irregular dt
+ *   landing    while a saccade is in flight in the arrived samples, its
+ *              predicted landing point, for images shown after its predicted
+ *              end (predict_landing.h); otherwise the `landing_fallback` kind
+ *              (default none: the newest sample, the best of the others on
+ *              the recorded traces, traces/README.md)
  * Every kind resets after a gap (blink, track loss) longer than gap_reset_s,
  * because a velocity from before a blink says nothing about after it.
  * Saccade gate: when the estimated speed exceeds max_speed_dps the predictor
@@ -21,8 +26,11 @@
 #define PP5_PREDICT_H
 
 #include <stdbool.h>
+#include "predict_landing.h"
 
-typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_ALPHABETA, PREDICT_KALMAN } predict_kind_t;
+typedef enum {
+    PREDICT_NONE, PREDICT_LINEAR, PREDICT_ALPHABETA, PREDICT_KALMAN, PREDICT_LANDING
+} predict_kind_t;
 
 typedef struct {
     predict_kind_t kind;
@@ -31,6 +39,8 @@ typedef struct {
     double accel_sigma_dps2; /* process noise, acceleration (default 1000 °/s², an assumption) */
     double max_speed_dps;    /* above this speed: hold, do not extrapolate (default 200 °/s) */
     double gap_reset_s;      /* reset after a gap longer than this (default 0.05 s) */
+    landing_params_t landing;            /* landing: the saccade model */
+    predict_kind_t landing_fallback;     /* landing: outside saccades (not LANDING) */
 } predict_params_t;
 
 #define PREDICT_HISTORY 512
@@ -44,10 +54,11 @@ typedef struct {
     /* linear: recent samples */
     double ht[PREDICT_HISTORY], hx[PREDICT_HISTORY], hy[PREDICT_HISTORY];
     int hhead, hcount;
+    landing_state_t landing;
 } predictor_t;
 
 void predict_defaults(predict_params_t *p, predict_kind_t kind);
-/* "none", "linear", "alphabeta", "kalman" -> kind; false if unknown. */
+/* "none", "linear", "alphabeta", "kalman", "landing" -> kind; false if unknown. */
 bool predict_kind_parse(const char *name, predict_kind_t *kind);
 const char *predict_kind_name(predict_kind_t kind);
 

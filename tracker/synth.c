@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "angles.h"
@@ -82,6 +83,7 @@ void synth_defaults(synth_params_t *p, synth_mode_t mode)
     p->max_pursuit_dps = 200;
     p->blinks_per_min = 12;
     p->microsaccades_per_s = 0.8;
+    p->drift_deg_per_sqrt_s = 0.1;
 }
 
 static const char *const mode_names[] = {"pursuit", "saccades", "mixed"};
@@ -141,6 +143,8 @@ typedef struct {
     double blink_at, blink_dur;
     double resume_end;         /* end of a fixation interrupted by a microsaccade or blink; 0 none */
     bool blink_in_pursuit;     /* the current blink interrupted pursuit */
+    synth_truth_t *truth;      /* NULL: not recorded */
+    bool truth_failed;         /* out of memory while recording */
 } sim_t;
 
 static double clampd(double v, double lo, double hi)
@@ -148,7 +152,32 @@ static double clampd(double v, double lo, double hi)
     return v < lo ? lo : v > hi ? hi : v;
 }
 
-static void start_saccade(sim_t *s, double t, double tx, double ty, state_t after)
+/* Records one saccade of the ground truth (no PRNG draws: the trace does not
+ * depend on whether truth is recorded). */
+static void record_saccade(sim_t *s, double v, bool micro)
+{
+    synth_truth_t *tr = s->truth;
+    if (!tr || s->truth_failed)
+        return;
+    void *items = tr->saccades;
+    s->truth_failed = pp5_grow(&items, &tr->capacity, tr->count, sizeof *tr->saccades,
+                               "saccades") != PP5_OK;
+    tr->saccades = items;
+    if (s->truth_failed)
+        return;
+    synth_saccade_t *e = &tr->saccades[tr->count++];
+    e->t_start_s = s->s_t0;
+    e->t_end_s = s->s_t0 + s->s_dur;
+    e->x0_deg = s->s0x;
+    e->y0_deg = s->s0y;
+    e->x1_deg = s->s1x;
+    e->y1_deg = s->s1y;
+    e->amplitude_deg = hypot(s->s1x - s->s0x, s->s1y - s->s0y);
+    e->peak_dps = v;
+    e->micro = micro;
+}
+
+static void start_saccade(sim_t *s, double t, double tx, double ty, state_t after, bool micro)
 {
     double a = hypot(tx - s->ex, ty - s->ey);
     double v = synth_main_sequence(s->p, a) * exp(s->p->velocity_sigma * synth_rng_normal(&s->rng));
@@ -161,6 +190,7 @@ static void start_saccade(sim_t *s, double t, double tx, double ty, state_t afte
     s->st = ST_SACC;
     s->t_end = t + s->s_dur;
     s->after_sacc = after;
+    record_saccade(s, v, micro);
 }
 
 static void start_fixation(sim_t *s, double t)
@@ -271,7 +301,7 @@ static void choose_next(sim_t *s, double t)
     }
     double tx, ty;
     new_saccade_target(s, &tx, &ty);
-    start_saccade(s, t, tx, ty, ST_FIX);
+    start_saccade(s, t, tx, ty, ST_FIX, false);
 }
 
 /* Advances the clean eye to time t (dt since the last call); returns the label. */
@@ -298,12 +328,12 @@ static int sim_step(sim_t *s, double t, double dt, bool *blink)
                 double dir = 2.0 * M_PI * synth_rng_uniform(&s->rng);
                 s->resume_end = s->t_end;
                 s->next_micro = INFINITY;
-                start_saccade(s, t, s->ex + a * cos(dir), s->ey + a * sin(dir), ST_FIX);
+                start_saccade(s, t, s->ex + a * cos(dir), s->ey + a * sin(dir), ST_FIX, true);
                 continue;
             }
             /* Drift: a random walk. */
-            s->ex += 0.1 * sqrt(dt) * synth_rng_normal(&s->rng);
-            s->ey += 0.1 * sqrt(dt) * synth_rng_normal(&s->rng);
+            s->ex += p->drift_deg_per_sqrt_s * sqrt(dt) * synth_rng_normal(&s->rng);
+            s->ey += p->drift_deg_per_sqrt_s * sqrt(dt) * synth_rng_normal(&s->rng);
             return GAZE_LABEL_FIXATION;
         case ST_SACC: {
             double u = (t - s->s_t0) / s->s_dur;
@@ -387,7 +417,7 @@ static int sim_step(sim_t *s, double t, double dt, bool *blink)
                     tx = clampd(s->tx + s->tvx * d, -s->lim_x, s->lim_x);
                     ty = clampd(s->ty + s->tvy * d, -s->lim_y, s->lim_y);
                 }
-                start_saccade(s, t, tx, ty, ST_PURSUE);
+                start_saccade(s, t, tx, ty, ST_PURSUE, false);
                 continue;
             }
             return GAZE_LABEL_PURSUIT;
@@ -397,7 +427,18 @@ static int sim_step(sim_t *s, double t, double dt, bool *blink)
     return GAZE_LABEL_NONE;
 }
 
+void synth_truth_free(synth_truth_t *t)
+{
+    free(t->saccades);
+    memset(t, 0, sizeof *t);
+}
+
 pp5_status_t synth_generate(const synth_params_t *p, trace_t *out)
+{
+    return synth_generate_truth(p, out, NULL);
+}
+
+pp5_status_t synth_generate_truth(const synth_params_t *p, trace_t *out, synth_truth_t *truth)
 {
     if (!(p->seconds > 0 && p->seconds <= 86400))
         return pp5_fail(PP5_E_CONFIG, "synth: --seconds %g is outside (0, 86400]", p->seconds);
@@ -405,7 +446,8 @@ pp5_status_t synth_generate(const synth_params_t *p, trace_t *out)
         return pp5_fail(PP5_E_CONFIG, "synth: --rate %g Hz is outside 10..10000", p->rate_hz);
     if (!(p->noise_deg >= 0 && p->noise_deg <= 5) || !(p->vmax_dps > 0) || !(p->c_deg > 0) ||
         !(p->max_pursuit_dps >= 5 && p->max_pursuit_dps <= 1000) || !(p->blinks_per_min >= 0) ||
-        !(p->microsaccades_per_s >= 0) || !(p->velocity_sigma >= 0))
+        !(p->microsaccades_per_s >= 0) || !(p->velocity_sigma >= 0) ||
+        !(p->drift_deg_per_sqrt_s >= 0 && p->drift_deg_per_sqrt_s <= 10))
         return pp5_fail(PP5_E_CONFIG, "synth: a model parameter is out of range");
     gaze_geometry_t g;
     pp5_status_t st = angles_resolve(&p->geometry, &g);
@@ -428,6 +470,10 @@ pp5_status_t synth_generate(const synth_params_t *p, trace_t *out)
     sim_t s;
     memset(&s, 0, sizeof s);
     s.p = p;
+    if (truth) {
+        memset(truth, 0, sizeof *truth);
+        s.truth = truth;
+    }
     synth_rng_seed(&s.rng, p->seed);
     double half_x, half_y;
     angles_px_to_deg(&g, g.width_px, g.height_px, &half_x, &half_y);
@@ -460,8 +506,12 @@ pp5_status_t synth_generate(const synth_params_t *p, trace_t *out)
         }
         st = trace_append(&t, &smp);
     }
+    if (st == PP5_OK && s.truth_failed)
+        st = pp5_fail(PP5_E_NOMEM, "synth: out of memory for the ground truth");
     if (st != PP5_OK) {
         trace_free(&t);
+        if (truth)
+            synth_truth_free(truth);
         return st;
     }
     t.complete = true;

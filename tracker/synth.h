@@ -15,7 +15,8 @@
  *   saccade amplitude lognormal, median 4.7°, 10-90 % 1.3-11.1° (§1, Lund images).
  *   fixation duration lognormal, median 240 ms, 10-90 % 126-425 ms (§1, Lund
  *     images 224 ms; reading 206 ms), clamped to 80-2000 ms; drift a random walk
- *     of 0.1 °/sqrt(s) [assumption]; microsaccades 0.8 /s of 0.1-0.8° (§1 IRF).
+ *     of 0.1 °/sqrt(s) per axis [assumption] (drift_deg_per_sqrt_s);
+ *     microsaccades 0.8 /s of 0.1-0.8° (§1 IRF).
  *   blinks 12 per minute (§2 [S23]), lognormal duration median 180 ms, 10-90 %
  *     148-229 ms (§1 IRF); samples missing (status blink, label 5); they start
  *     inside fixations, or anywhere in pursuit (which continues behind the lids).
@@ -55,6 +56,7 @@ typedef struct {
     double max_pursuit_dps;    /* top target speed in pursuit */
     double blinks_per_min;     /* 0 = no blinks */
     double microsaccades_per_s;
+    double drift_deg_per_sqrt_s; /* fixational drift random walk per axis (default 0.1) */
 } synth_params_t;
 
 void synth_defaults(synth_params_t *p, synth_mode_t mode);
@@ -68,6 +70,28 @@ double synth_main_sequence(const synth_params_t *p, double a_deg);
 
 /* Generates a trace (header filled; source text describes the parameters). */
 pp5_status_t synth_generate(const synth_params_t *p, trace_t *out);
+
+/* The generator's ground truth for every saccade it made (microsaccades and
+ * catch-up saccades included), in visual angle on the trace's display
+ * (angles.h; the clean eye, before noise).  Samples with t in [t_start_s,
+ * t_end_s) carry label 2; the eye sits at (x1, y1) from t_end_s on. */
+typedef struct {
+    double t_start_s, t_end_s;
+    double x0_deg, y0_deg, x1_deg, y1_deg;
+    double amplitude_deg;
+    double peak_dps;           /* the model's peak velocity (main sequence x spread) */
+    bool micro;                /* a fixational microsaccade */
+} synth_saccade_t;
+
+typedef struct {
+    synth_saccade_t *saccades;
+    size_t count, capacity;
+} synth_truth_t;
+
+void synth_truth_free(synth_truth_t *t);
+/* As synth_generate, and also fills *truth (freed by synth_truth_free; the
+ * trace is byte-for-byte the one synth_generate makes). */
+pp5_status_t synth_generate_truth(const synth_params_t *p, trace_t *out, synth_truth_t *truth);
 
 /* The generator's PRNG (xoshiro256**, seeded through splitmix64): public so
  * other modules can make reproducible streams. */

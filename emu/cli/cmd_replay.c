@@ -9,6 +9,7 @@
 
 #include "tracker/angles.h"
 #include "cliopt.h"
+#include "emu/cli/cmd_replay.h"
 #include "json.h"
 #include "registry.h"
 #include "tracker/replay.h"
@@ -46,7 +47,11 @@ static void usage(FILE *out)
         "  --refresh-hz HZ          images wait for the next refresh (e.g. 60); default: none\n"
         "  --gap-s G                a pause in the samples longer than G s (default 1) splits\n"
         "                           the trace: frames whose gaze predates it are not scored\n"
-        "  --predict P              none (default), linear, alphabeta, kalman\n"
+        "  --predict P              none (default), linear, alphabeta, kalman, or landing: the\n"
+        "                           landing point of a saccade in flight (main sequence and\n"
+        "                           velocity profile, tracker/predict_landing.h), with the\n"
+        "                           landing error per amplitude bin; landing:kalman (etc.)\n"
+        "                           uses that predictor outside saccades (default: none)\n"
         "  --timing-only            do not ask the frame source for images\n"
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
@@ -56,7 +61,22 @@ static void usage(FILE *out)
         "                           hid, hid:/dev/hidrawN, polhemus, polhemus:BUS:ADDR) for\n"
         "                           --seconds S (default 10), keep it in /tmp, then replay it\n"
         "  --frames-dir DIR         write each frame's image as DIR/frame_NNNNN.png (only when\n"
-        "                           the cost source renders images; the constant one does not)\n",
+        "                           the cost source renders images; the constant one does not)\n"
+        "  --sweep-latency          instead of one replay: the share of time inside the sweet\n"
+        "                           spot as the total latency goes 10..200 ms (the paper's\n"
+        "                           100-150 ms and the tolerable 50-70 ms marked), and which\n"
+        "                           --machine configuration first meets 70 ms\n"
+        "  --sweep-ms FROM:TO:STEP  the sweep's latencies (default 10:200:10)\n"
+        "  --machine SPEC           a machine configuration for the sweep, repeatable, in order:\n"
+        "                           machine settings as pp5 machine takes them, e.g.\n"
+        "                           \"gp.count=32 ring.channels=16\" or \"preset=gaze1990-literal\"\n"
+        "                           (default: the literal ring, 16 GPs, 32 GPs, 32 GPs with 16\n"
+        "                           ring channels; \"none\": no machines)\n"
+        "  --machine-frames N       frames emulated per configuration (default 4)\n"
+        "Examples:\n"
+        "  pp5 replay traces/saccades_10s_250hz.trace --predict landing --report r.json\n"
+        "  pp5 replay traces/pursuit_10s_250hz.trace --sweep-latency --machine \"gp.count=16\" \\\n"
+        "      --machine \"gp.count=32\"\n",
         REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
         REPLAY_DEFAULT_DISPLAY_LATENCY_S * 1e3);
 }
@@ -121,6 +141,9 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_kv_double(&j, "refresh_hz", p->refresh_hz);
     json_kv_double(&j, "gap_s", p->gap_s);
     json_kv_string(&j, "predict", predict_kind_name(p->predict.kind));
+    if (p->predict.kind == PREDICT_LANDING)
+        json_kv_string(&j, "predict_outside_saccades",
+                       predict_kind_name(p->predict.landing_fallback));
     json_kv_bool(&j, "timing_only", p->timing_only);
     json_key(&j, "summary");
     json_begin_object(&j);
@@ -185,186 +208,282 @@ static pp5_status_t write_plot(const char *path, const replay_result_t *r)
 #endif
 }
 
-static int cmd_replay(int argc, char **argv)
+/* none | linear | alphabeta | kalman | landing[:FALLBACK]. */
+static pp5_status_t parse_predict(const char *text, predict_params_t *p)
 {
-    static const struct option opts[] = {
-        {"frame-time-ms", required_argument, 0, 'f'}, {"tracker-latency-ms", required_argument, 0, 't'},
-        {"display-latency-ms", required_argument, 0, 'd'}, {"latency-ms", required_argument, 0, 'l'},
-        {"radius-deg", required_argument, 0, 'r'}, {"predict", required_argument, 0, 'p'},
-        {"timing-only", no_argument, 0, 'T'}, {"max-frames", required_argument, 0, 'n'},
-        {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
-        {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
-        {"refresh-hz", required_argument, 0, 'R'}, {"gap-s", required_argument, 0, 'g'},
-        {"frames-dir", required_argument, 0, 'F'}, {"live", required_argument, 0, 'L'},
-        {"seconds", required_argument, 0, 'S'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    char name[32];
+    const char *colon = strchr(text, ':');
+    snprintf(name, sizeof name, "%.*s", colon ? (int)(colon - text) : (int)strlen(text), text);
+    predict_kind_t k, fallback = PREDICT_NONE;
+    if (!predict_kind_parse(name, &k) || (colon && (k != PREDICT_LANDING ||
+                                                    !predict_kind_parse(colon + 1, &fallback) ||
+                                                    fallback == PREDICT_LANDING)))
+        return pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta, kalman or "
+                        "landing[:none|linear|alphabeta|kalman], got '%s'", text);
+    predict_defaults(p, k);
+    p->landing_fallback = fallback;
+    return PP5_OK;
+}
+
+/* FROM:TO:STEP in ms. */
+static pp5_status_t parse_sweep_ms(const char *text, replay_sweep_t *s)
+{
+    char extra;
+    if (sscanf(text, "%lf:%lf:%lf%c", &s->from_ms, &s->to_ms, &s->step_ms, &extra) != 3 ||
+        !isfinite(s->from_ms) || !isfinite(s->to_ms) || !isfinite(s->step_ms))
+        return pp5_fail(PP5_E_CONFIG, "--sweep-ms: expected FROM:TO:STEP in ms (e.g. 10:200:10), "
+                        "got '%s'", text);
+    return PP5_OK;
+}
+
+/* The sweep's default machine configurations, in the order asked. */
+static void default_machines(replay_sweep_t *s)
+{
+    static const char *const defaults[] = {"preset=gaze1990-literal", "gp.count=16", "gp.count=32",
+                                           "gp.count=32 ring.channels=16"};
+    if (s->n_machines == 1 && strcmp(s->machines[0], "none") == 0)
+        s->n_machines = 0;
+    else if (s->n_machines == 0)
+        for (size_t i = 0; i < sizeof defaults / sizeof defaults[0]; i++)
+            s->machines[s->n_machines++] = defaults[i];
+}
+
+/* Everything the command line chose. */
+typedef struct {
     replay_params_t p;
-    replay_defaults(&p);
-    /* The emulated machine when it is built in (firmware/host/replay_machine.c
-     * registers it); the constant stand-in otherwise. */
-    char cost_spec[256] = "constant";
-    if (replay_find_cost_source("machine"))
-        snprintf(cost_spec, sizeof cost_spec, "machine");
-    const char *report = NULL, *csv = NULL, *plot = NULL, *frames_dir = NULL;
-    const char *live = NULL, *live_seconds = "10";
+    char cost_spec[256];          /* NAME[:OPTIONS] */
+    const char *report, *csv, *plot, *frames_dir, *live, *live_seconds;
+    bool sweep;
+    replay_sweep_t sw;
+} replay_cli_t;
+
+static const struct option replay_opts[] = {
+    {"frame-time-ms", required_argument, 0, 'f'}, {"tracker-latency-ms", required_argument, 0, 't'},
+    {"display-latency-ms", required_argument, 0, 'd'}, {"latency-ms", required_argument, 0, 'l'},
+    {"radius-deg", required_argument, 0, 'r'}, {"predict", required_argument, 0, 'p'},
+    {"timing-only", no_argument, 0, 'T'}, {"max-frames", required_argument, 0, 'n'},
+    {"report", required_argument, 0, 'j'}, {"csv", required_argument, 0, 'c'},
+    {"plot", required_argument, 0, 'P'}, {"cost", required_argument, 0, 'C'},
+    {"refresh-hz", required_argument, 0, 'R'}, {"gap-s", required_argument, 0, 'g'},
+    {"frames-dir", required_argument, 0, 'F'}, {"live", required_argument, 0, 'L'},
+    {"seconds", required_argument, 0, 'S'}, {"sweep-latency", no_argument, 0, 'W'},
+    {"sweep-ms", required_argument, 0, 'w'}, {"machine", required_argument, 0, 'M'},
+    {"machine-frames", required_argument, 0, 'm'}, {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0}};
+
+/* The latency and geometry options. */
+static pp5_status_t parse_latency_option(int c, const char *arg, replay_params_t *p)
+{
+    double ms;
     pp5_status_t st = PP5_OK;
+    switch (c) {
+    case 'R': return cliopt_double("--refresh-hz", arg, 0, 10000, &p->refresh_hz);
+    case 'g': return cliopt_double("--gap-s", arg, 0.001, 1e6, &p->gap_s);
+    case 'r': return cliopt_double("--radius-deg", arg, 0.01, 180, &p->fullres_radius_deg);
+    case 't':
+        if ((st = cliopt_double("--tracker-latency-ms", arg, 0, 1e6, &ms)) == PP5_OK)
+            p->tracker_latency_s = ms / 1e3;
+        return st;
+    case 'd':
+        if ((st = cliopt_double("--display-latency-ms", arg, 0, 1e6, &ms)) == PP5_OK)
+            p->display_latency_s = ms / 1e3;
+        return st;
+    default:   /* 'l' */
+        if ((st = cliopt_double("--latency-ms", arg, 0, 1e6, &ms)) == PP5_OK) {
+            p->tracker_latency_s = ms / 1e3;
+            p->display_latency_s = 0;
+        }
+        return st;
+    }
+}
+
+/* One option; *done set (with *rc) for --help and unknown options. */
+static pp5_status_t parse_option(int c, const char *arg, replay_cli_t *o, bool *done, int *rc)
+{
     double ms;
     long nf;
-    int c;
+    pp5_status_t st = PP5_OK;
+    switch (c) {
+    case 'f':
+        if ((st = cliopt_double("--frame-time-ms", arg, 0.01, 1e6, &ms)) == PP5_OK)
+            snprintf(o->cost_spec, sizeof o->cost_spec, "constant:%s", arg);
+        return st;
+    case 'C':
+        if (strlen(arg) >= sizeof o->cost_spec)
+            return pp5_fail(PP5_E_CONFIG, "--cost: too long");
+        snprintf(o->cost_spec, sizeof o->cost_spec, "%s", arg);
+        return PP5_OK;
+    case 'R': case 'g': case 'r': case 't': case 'd': case 'l':
+        return parse_latency_option(c, arg, &o->p);
+    case 'F': o->frames_dir = arg; return PP5_OK;
+    case 'L': o->live = arg; return PP5_OK;
+    case 'S': o->live_seconds = arg; return cliopt_double("--seconds", arg, 0.1, 86400, &ms);
+    case 'p': return parse_predict(arg, &o->p.predict);
+    case 'T': o->p.timing_only = true; return PP5_OK;
+    case 'W': o->sweep = true; return PP5_OK;
+    case 'w': return parse_sweep_ms(arg, &o->sw);
+    case 'M':
+        if (o->sw.n_machines >= REPLAY_SWEEP_MAX_MACHINES)
+            return pp5_fail(PP5_E_CONFIG, "--machine: at most %d", REPLAY_SWEEP_MAX_MACHINES);
+        o->sw.machines[o->sw.n_machines++] = arg;
+        return PP5_OK;
+    case 'm':
+        if ((st = cliopt_long("--machine-frames", arg, 1, 10000, &nf)) == PP5_OK)
+            o->sw.machine_frames = (size_t)nf;
+        return st;
+    case 'n':
+        if ((st = cliopt_long("--max-frames", arg, 1, 100000000L, &nf)) == PP5_OK)
+            o->p.max_frames = (size_t)nf;
+        return st;
+    case 'j': o->report = arg; return PP5_OK;
+    case 'c': o->csv = arg; return PP5_OK;
+    case 'P': o->plot = arg; return PP5_OK;
+    case 'h': usage(stdout); *done = true; *rc = 0; return PP5_OK;
+    default: usage(stderr); *done = true; *rc = 2; return PP5_OK;
+    }
+}
+
+/* Records a live session into live_path (flushed as it goes, by `pp5 track
+ * record`), to be replayed frame by frame: the emulated machine runs slower
+ * than real time.  Returns 0, or the exit code to stop with. */
+static int record_live(const char *live, const char *seconds, char *live_path)
+{
+    int fd = mkstemps(live_path, 6);
+    if (fd < 0)
+        return cliopt_report("replay", pp5_fail(PP5_E_IO, "--live: cannot make a temporary "
+                                                "trace file in /tmp"));
+    close(fd);
+    const pp5_command_t *track = pp5_find_command("track");
+    if (!track)
+        return cliopt_report("replay", pp5_fail(PP5_E_UNSUPPORTED, "--live: this build has no "
+                                                "`pp5 track`"));
+    char *track_argv[] = {"track", "record", "--device", (char *)live, "--seconds",
+                          (char *)seconds, "--out", live_path, NULL};
+    fprintf(stderr, "replay: recording %s s of live gaze from %s into %s\n", seconds, live,
+            live_path);
+    optind = 0;
+    int rc = track->fn(8, track_argv);
     optind = 1;
-    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'f':
-            if ((st = cliopt_double("--frame-time-ms", optarg, 0.01, 1e6, &ms)) == PP5_OK)
-                snprintf(cost_spec, sizeof cost_spec, "constant:%s", optarg);
-            break;
-        case 'C':
-            if (strlen(optarg) >= sizeof cost_spec)
-                st = pp5_fail(PP5_E_CONFIG, "--cost: too long");
-            else
-                snprintf(cost_spec, sizeof cost_spec, "%s", optarg);
-            break;
-        case 'F': frames_dir = optarg; break;
-        case 'L': live = optarg; break;
-        case 'S': st = cliopt_double("--seconds", optarg, 0.1, 86400, &ms); live_seconds = optarg; break;
-        case 'R': st = cliopt_double("--refresh-hz", optarg, 0, 10000, &p.refresh_hz); break;
-        case 'g': st = cliopt_double("--gap-s", optarg, 0.001, 1e6, &p.gap_s); break;
-        case 't':
-            if ((st = cliopt_double("--tracker-latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK)
-                p.tracker_latency_s = ms / 1e3;
-            break;
-        case 'd':
-            if ((st = cliopt_double("--display-latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK)
-                p.display_latency_s = ms / 1e3;
-            break;
-        case 'l':
-            if ((st = cliopt_double("--latency-ms", optarg, 0, 1e6, &ms)) == PP5_OK) {
-                p.tracker_latency_s = ms / 1e3;
-                p.display_latency_s = 0;
-            }
-            break;
-        case 'r': st = cliopt_double("--radius-deg", optarg, 0.01, 180, &p.fullres_radius_deg); break;
-        case 'p': {
-            predict_kind_t k;
-            if (!predict_kind_parse(optarg, &k))
-                st = pp5_fail(PP5_E_CONFIG, "--predict: expected none, linear, alphabeta or "
-                              "kalman, got '%s'", optarg);
-            else
-                predict_defaults(&p.predict, k);
-            break;
-        }
-        case 'T': p.timing_only = true; break;
-        case 'n':
-            if ((st = cliopt_long("--max-frames", optarg, 1, 100000000L, &nf)) == PP5_OK)
-                p.max_frames = (size_t)nf;
-            break;
-        case 'j': report = optarg; break;
-        case 'c': csv = optarg; break;
-        case 'P': plot = optarg; break;
-        case 'h': usage(stdout); return 0;
-        default: usage(stderr); return 2;
-        }
+    if (rc == 0)
+        return 0;
+    /* A device that stopped (timeout, unplugged) leaves what arrived: replay
+     * that, saying so, unless there is nothing to replay. */
+    trace_t partial;
+    bool usable = trace_read_file(live_path, &partial) == PP5_OK && partial.count >= 2;
+    if (usable)
+        trace_free(&partial);
+    if (!usable) {
+        fprintf(stderr, "pp5 replay: --live %s: the recording failed (see above) and holds too "
+                "little to replay (%s)\n", live, live_path);
+        return rc;
     }
-    if (st == PP5_OK && !live && optind != argc - 1)
-        st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
-    if (st == PP5_OK && live && optind != argc)
-        st = pp5_fail(PP5_E_CONFIG, "--live records its own trace: give no TRACE file");
-    if (st != PP5_OK)
-        return cliopt_report("replay", st);
-    const char *path = live ? NULL : argv[optind];
-    char live_path[] = "/tmp/pp5-live-XXXXXX.trace";
-    if (live) {
-        /* Record first, then replay: the emulated machine runs slower than
-         * real time, so a live session is recorded (flushed as it goes, by
-         * `pp5 track record`) and then replayed frame by frame. */
-        int fd = mkstemps(live_path, 6);
-        if (fd < 0)
-            return cliopt_report("replay", pp5_fail(PP5_E_IO, "--live: cannot make a temporary "
-                                                    "trace file in /tmp"));
-        close(fd);
-        const pp5_command_t *track = pp5_find_command("track");
-        if (!track)
-            return cliopt_report("replay", pp5_fail(PP5_E_UNSUPPORTED, "--live: this build has "
-                                                    "no `pp5 track`"));
-        char *track_argv[] = {"track", "record", "--device", (char *)live, "--seconds",
-                              (char *)live_seconds, "--out", live_path, NULL};
-        fprintf(stderr, "replay: recording %s s of live gaze from %s into %s\n", live_seconds,
-                live, live_path);
-        optind = 0;
-        int rc = track->fn(8, track_argv);
-        optind = 1;
-        if (rc != 0) {
-            /* A device that stopped (timeout, unplugged) leaves what arrived:
-             * replay that, saying so, unless there is nothing to replay. */
-            trace_t partial;
-            bool usable = trace_read_file(live_path, &partial) == PP5_OK && partial.count >= 2;
-            if (usable)
-                trace_free(&partial);
-            if (!usable) {
-                fprintf(stderr, "pp5 replay: --live %s: the recording failed (see above) and "
-                        "holds too little to replay (%s)\n", live, live_path);
-                return rc;
-            }
-            fprintf(stderr, "replay: the live recording ended early (see above); replaying what "
-                    "arrived\n");
-        }
-        path = live_path;
-    }
-    /* NAME[:OPTIONS] */
-    char *colon = strchr(cost_spec, ':');
+    fprintf(stderr, "replay: the live recording ended early (see above); replaying what "
+            "arrived\n");
+    return 0;
+}
+
+static void print_summary(const char *path, const trace_t *t, const replay_params_t *p,
+                          const replay_cost_source_t *cs, const char *cost_options,
+                          const replay_summary_t *s)
+{
+    printf("replay %s (%s)\n", path, t->header.source);
+    printf("  frame source: %s%s%s: %s; mean frame %.1f ms\n", cs->name,
+           cost_options[0] ? ":" : "", cost_options, cs->summary, s->mean_frame_s * 1e3);
+    printf("  latency: tracker %.1f ms + frame + display %.1f ms; mean sample age at display "
+           "%.1f ms\n", p->tracker_latency_s * 1e3, p->display_latency_s * 1e3,
+           s->mean_latency_s * 1e3);
+    printf("  prediction: %s\n", predict_kind_name(p->predict.kind));
+    printf("  frames: %zu (%.2f frames/s) over %.3f s of trace\n", s->frames, s->frames_per_s,
+           s->trace_s);
+    printf("  error at display time: mean %.2f deg, 95th percentile %.2f deg, max %.2f deg "
+           "(%zu frames measurable; %zu not scored: shown after a recording gap > %.1f s)\n",
+           s->mean_error_deg, s->p95_error_deg, s->max_error_deg, s->frames_with_error,
+           s->frames_after_gap, p->gap_s);
+    printf("  true gaze inside the %.1f deg full-resolution radius: %.1f %% of %.3f s with "
+           "gaze data\n", p->fullres_radius_deg, 100.0 * s->inside_fraction, s->valid_display_s);
+}
+
+/* The replay proper, on the trace at path, with its outputs. */
+static pp5_status_t run_replay(replay_cli_t *o, const char *path)
+{
+    char *colon = strchr(o->cost_spec, ':');
     const char *cost_options = "";
     if (colon) {
         *colon = '\0';
         cost_options = colon + 1;
     }
-    const replay_cost_source_t *cs = replay_find_cost_source(cost_spec);
+    const replay_cost_source_t *cs = replay_find_cost_source(o->cost_spec);
     if (!cs)
-        return cliopt_report("replay", pp5_fail(PP5_E_CONFIG, "--cost: no frame-cost source "
-                                                "'%s' in this build (see --help)", cost_spec));
+        return pp5_fail(PP5_E_CONFIG, "--cost: no frame-cost source '%s' in this build (see "
+                        "--help)", o->cost_spec);
     trace_t t;
-    st = trace_read_file(path, &t);
+    pp5_status_t st = trace_read_file(path, &t);
     if (st != PP5_OK)
-        return cliopt_report("replay", st);
-    void *ctx = NULL;
-    st = cs->open(cost_options, &p.display, &ctx);
-    if (st != PP5_OK) {
+        return st;
+    if (o->sweep) {
+        default_machines(&o->sw);
+        st = replay_sweep_latency(&t, &o->p, &o->sw);
         trace_free(&t);
-        return cliopt_report("replay", st);
+        return st;
     }
-    frames_out_t fo = {frames_dir, 0};
+    void *ctx = NULL;
+    if ((st = cs->open(cost_options, &o->p.display, &ctx)) != PP5_OK) {
+        trace_free(&t);
+        return st;
+    }
+    frames_out_t fo = {o->frames_dir, 0};
     replay_result_t r;
-    st = replay_run(&t, &p, cs->cost, ctx, frames_dir ? save_frame : NULL, &fo, &r);
+    st = replay_run(&t, &o->p, cs->cost, ctx, o->frames_dir ? save_frame : NULL, &fo, &r);
     if (st == PP5_OK) {
-        const replay_summary_t *s = &r.summary;
-        printf("replay %s (%s)\n", path, t.header.source);
-        printf("  frame source: %s%s%s: %s; mean frame %.1f ms\n", cs->name,
-               cost_options[0] ? ":" : "", cost_options, cs->summary, s->mean_frame_s * 1e3);
-        printf("  latency: tracker %.1f ms + frame + display %.1f ms; mean sample age at display "
-               "%.1f ms\n", p.tracker_latency_s * 1e3, p.display_latency_s * 1e3,
-               s->mean_latency_s * 1e3);
-        printf("  prediction: %s\n", predict_kind_name(p.predict.kind));
-        printf("  frames: %zu (%.2f frames/s) over %.3f s of trace\n", s->frames, s->frames_per_s,
-               s->trace_s);
-        printf("  error at display time: mean %.2f deg, 95th percentile %.2f deg, max %.2f deg "
-               "(%zu frames measurable; %zu not scored: shown after a recording gap > %.1f s)\n",
-               s->mean_error_deg, s->p95_error_deg, s->max_error_deg, s->frames_with_error,
-               s->frames_after_gap, p.gap_s);
-        printf("  true gaze inside the %.1f deg full-resolution radius: %.1f %% of %.3f s with "
-               "gaze data\n", p.fullres_radius_deg, 100.0 * s->inside_fraction,
-               s->valid_display_s);
-        if (frames_dir)
-            printf("  frames written to %s: %zu (the cost source renders %s)\n", frames_dir,
+        print_summary(path, &t, &o->p, cs, cost_options, &r.summary);
+        if (o->frames_dir)
+            printf("  frames written to %s: %zu (the cost source renders %s)\n", o->frames_dir,
                    fo.written, fo.written ? "images" : "no images");
-        if (csv)
-            st = write_csv(csv, &r);
-        if (st == PP5_OK && report)
-            st = write_report(report, path, &t, &p, cs, cost_options, s);
-        if (st == PP5_OK && plot)
-            st = write_plot(plot, &r);
+        if (o->p.predict.kind == PREDICT_LANDING)
+            st = replay_print_landing(&t, &o->p);
+        if (st == PP5_OK && o->csv)
+            st = write_csv(o->csv, &r);
+        if (st == PP5_OK && o->report)
+            st = write_report(o->report, path, &t, &o->p, cs, cost_options, &r.summary);
+        if (st == PP5_OK && o->plot)
+            st = write_plot(o->plot, &r);
         replay_result_free(&r);
     }
     if (cs->close)
         cs->close(ctx);
     trace_free(&t);
+    return st;
+}
+
+static int cmd_replay(int argc, char **argv)
+{
+    static replay_cli_t o;      /* large (the sweep's list): kept off the stack */
+    memset(&o, 0, sizeof o);
+    replay_defaults(&o.p);
+    replay_sweep_defaults(&o.sw);
+    o.live_seconds = "10";
+    /* The emulated machine when it is built in (firmware/host/replay_machine.c
+     * registers it); the constant stand-in otherwise. */
+    snprintf(o.cost_spec, sizeof o.cost_spec, "%s",
+             replay_find_cost_source("machine") ? "machine" : "constant");
+    pp5_status_t st = PP5_OK;
+    bool done = false;
+    int c, rc = 0;
+    optind = 1;
+    while (st == PP5_OK && !done && (c = getopt_long(argc, argv, "h", replay_opts, NULL)) != -1)
+        st = parse_option(c, optarg, &o, &done, &rc);
+    if (done)
+        return rc;
+    if (st == PP5_OK && !o.live && optind != argc - 1)
+        st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
+    if (st == PP5_OK && o.live && optind != argc)
+        st = pp5_fail(PP5_E_CONFIG, "--live records its own trace: give no TRACE file");
+    if (st != PP5_OK)
+        return cliopt_report("replay", st);
+    char live_path[] = "/tmp/pp5-live-XXXXXX.trace";
+    if (o.live && (rc = record_live(o.live, o.live_seconds, live_path)) != 0)
+        return rc;
+    st = run_replay(&o, o.live ? live_path : argv[optind]);
     return st == PP5_OK ? 0 : cliopt_report("replay", st);
 }
 

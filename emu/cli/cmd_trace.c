@@ -1,4 +1,5 @@
-/* cmd_trace.c: `pp5 trace synth|import|info`: make, convert and describe gaze traces. */
+/* cmd_trace.c: `pp5 trace synth|import|info|events`: make, convert, describe gaze traces
+ * and detect their events (cmd_trace_events.c). */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -8,6 +9,7 @@
 
 #include "tracker/angles.h"
 #include "cliopt.h"
+#include "emu/cli/cmd_trace.h"
 #include "tracker/import.h"
 #include "registry.h"
 #include "tracker/synth.h"
@@ -118,10 +120,15 @@ static void import_usage(FILE *out)
         "  --source-px-per-deg P    pixels per degree at the centre (instead of mm + distance)\n"
         "  --eye L|R                EyeLink binocular: one eye (default: mean of the eyes)\n"
         "  --min-confidence C       Pupil Labs: lower confidence is track loss (default 0.6)\n"
+        "  --label-column NAME      gaze-trace v1: take the labels from this column (default\n"
+        "                           label; lund2013's second coder: label_RA)\n"
         "  --to paper               carry the gaze through visual angle onto the paper's\n"
         "                           display (19 in monitor at 20 in, 1280x1024, 37 deg wide);\n"
         "                           default: keep the recording's display\n"
-        "  --out FILE               the trace to write\n");
+        "  --out FILE               the trace to write\n"
+        "Example:\n"
+        "  pp5 trace import ../shared/data/gaze/lund2013/trace/img/UL23_img_Europe.tsv.gz \\\n"
+        "      --format shared --label-column label_RA --out ul23_ra.trace\n");
 }
 
 static int cmd_import(int argc, char **argv)
@@ -131,6 +138,7 @@ static int cmd_import(int argc, char **argv)
         {"source-mm", required_argument, 0, 'm'}, {"source-distance-mm", required_argument, 0, 'd'},
         {"source-px-per-deg", required_argument, 0, 'g'}, {"eye", required_argument, 0, 'e'},
         {"min-confidence", required_argument, 0, 'c'}, {"to", required_argument, 0, 't'},
+        {"label-column", required_argument, 0, 'L'},
         {"out", required_argument, 0, 'o'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     import_options_t o;
     import_defaults(&o);
@@ -165,6 +173,7 @@ static int cmd_import(int argc, char **argv)
                 st = pp5_fail(PP5_E_CONFIG, "--to: only 'paper' is known, got '%s'", optarg);
             to_paper = true;
             break;
+        case 'L': o.label_column = optarg; break;
         case 'o': outp = optarg; break;
         case 'h': import_usage(stdout); return 0;
         default: import_usage(stderr); return 2;
@@ -200,7 +209,10 @@ static int cmd_info(int argc, char **argv)
     if (argc != 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         fprintf(argc == 2 ? stdout : stderr,
                 "usage: pp5 trace info FILE\n\nPrints a pp5 trace's header and statistics "
-                "(duration, valid and blink fractions, gaps, labels, field of view).\n");
+                "(duration, valid and blink fractions, gaps, labels, field of view), its data\n"
+                "quality (precision RMS-S2S and STD in fixations, data loss, effective rate) and\n"
+                "the events the adaptive detector finds (see pp5 trace events --help).\n"
+                "Example: pp5 trace info traces/saccades_10s_250hz.trace\n");
         return argc == 2 ? 0 : 2;
     }
     trace_t t;
@@ -250,8 +262,9 @@ static int cmd_info(int argc, char **argv)
     printf("\n");
     if (t.has_head || t.has_hand)
         printf("poses:         %s%s\n", t.has_head ? "head " : "", t.has_hand ? "hand" : "");
+    st = t.count >= 2 ? trace_info_print_events(&t) : PP5_OK;
     trace_free(&t);
-    return 0;
+    return st == PP5_OK ? 0 : cliopt_report("trace info", st);
 }
 
 /* --------------------------------------------------------------- dispatch */
@@ -260,10 +273,11 @@ static int cmd_trace(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         fprintf(argc < 2 ? stderr : stdout,
-                "usage: pp5 trace synth|import|info ...   (pp5 trace SUBCOMMAND --help)\n\n"
+                "usage: pp5 trace synth|import|info|events ...   (pp5 trace SUBCOMMAND --help)\n\n"
                 "  synth    generate a synthetic gaze trace (pursuit, saccades, mixed)\n"
                 "  import   convert EyeLink ASC, Tobii TSV, Pupil Labs CSV or gaze-trace v1\n"
-                "  info     describe a pp5 trace file\n");
+                "  info     describe a pp5 trace file, its data quality and events\n"
+                "  events   detect fixations, saccades, PSOs, blinks; write events.tsv\n");
         return argc < 2 ? 2 : 0;
     }
     if (strcmp(argv[1], "synth") == 0)
@@ -272,8 +286,11 @@ static int cmd_trace(int argc, char **argv)
         return cmd_import(argc - 1, argv + 1);
     if (strcmp(argv[1], "info") == 0)
         return cmd_info(argc - 1, argv + 1);
-    fprintf(stderr, "pp5 trace: no subcommand '%s' (synth, import, info)\n", argv[1]);
+    if (strcmp(argv[1], "events") == 0)
+        return cmd_trace_events(argc - 1, argv + 1);
+    fprintf(stderr, "pp5 trace: no subcommand '%s' (synth, import, info, events)\n", argv[1]);
     return 2;
 }
 
-PP5_COMMAND(trace, "make, import and describe gaze traces (synth, import, info)", cmd_trace)
+PP5_COMMAND(trace, "make, import and describe gaze traces, detect their events (synth, import, "
+            "info, events)", cmd_trace)

@@ -61,3 +61,19 @@ void pp5_assert_fail(const char *cond, const char *msg, const char *file, int li
     fprintf(stderr, "pp5: internal error at %s:%d: %s (%s)\n", file, line, msg, cond);
     abort();
 }
+
+pp5_status_t pp5_grow(void **items, size_t *capacity, size_t count, size_t item_size,
+                      const char *what)
+{
+    if (count < *capacity)
+        return PP5_OK;
+    size_t cap = *capacity ? 2 * *capacity : 64, bytes;
+    if (cap <= *capacity || !pp5_mul_size(cap, item_size, &bytes))
+        return pp5_fail(PP5_E_NOMEM, "too many %s", what);
+    void *grown = realloc(*items, bytes);
+    if (!grown)
+        return pp5_fail(PP5_E_NOMEM, "out of memory for %zu %s", cap, what);
+    *items = grown;
+    *capacity = cap;
+    return PP5_OK;
+}

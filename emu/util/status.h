@@ -35,6 +35,11 @@ const char *pp5_status_name(pp5_status_t st);
 /* Checked size helpers: false when the product/sum overflows size_t. */
 bool pp5_mul_size(size_t a, size_t b, size_t *out);
 bool pp5_mul3_size(size_t a, size_t b, size_t c, size_t *out);
+/* Room for one more item in a growing array: when count == *capacity, the
+ * capacity doubles (first 64) and *items is reallocated.  PP5_E_NOMEM naming
+ * `what` when the size overflows or realloc fails (*items is then as it was). */
+pp5_status_t pp5_grow(void **items, size_t *capacity, size_t count, size_t item_size,
+                      const char *what);
 
 void pp5_assert_fail(const char *cond, const char *msg, const char *file, int line)
     __attribute__((noreturn));

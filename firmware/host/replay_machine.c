@@ -46,7 +46,7 @@ typedef struct {
     char lighting[32];
     fw_options_t fw;      /* division=, split=, plan=, level_tables= */
     pp5_params_cli_t params;   /* machine parameters given as NAME=VALUE */
-    char sets[PP5_PARAMS_MAX_SETS][96];
+    char sets[PP5_PARAMS_MAX_SETS][128];
 } machine_cost_opts_t;
 
 /* One KEY=VALUE item of --cost machine:...: the source's own keys, the
@@ -77,6 +77,14 @@ static pp5_status_t parse_item(const char *item, machine_cost_opts_t *o)
         snprintf(o->lighting, sizeof o->lighting, "%s", value);
         return PP5_OK;
     }
+    /* set=PARAM=VALUE spells a machine parameter the way `pp5 machine --set`
+     * takes it; a bare PARAM=VALUE means the same. */
+    if (klen == 3 && strncmp(item, "set", 3) == 0) {
+        if (!strchr(value, '='))
+            return pp5_fail(PP5_E_CONFIG, "--cost machine: set= wants PARAM=VALUE, got '%s'",
+                            value);
+        item = value;
+    }
     bool taken = false;
     if (is_volume || is_lighting)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s (volume=phantom|mrbrain, "
@@ -102,7 +110,7 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
     snprintf(o->preset, sizeof o->preset, "default");
     snprintf(o->lighting, sizeof o->lighting, "diffuse");
     fw_options_default(&o->fw);
-    char buf[512];
+    char buf[2048];
     if (strlen(text) >= sizeof buf)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: options too long");
     snprintf(buf, sizeof buf, "%s", text);
@@ -178,6 +186,8 @@ static pp5_status_t machine_cost_open(const char *options, const gaze_geometry_t
     pp5_params_t params;
     if (st == PP5_OK)
         st = pp5_params_build(&o.params, &params);
+    if (st == PP5_OK)
+        st = pp5_params_validate(&params);
     if (st == PP5_OK) {
         fprintf(stderr, "machine: setting up the gaze-directed renderer (%s 128x128x109, %dx%d "
                 "image, preset %s, division %s)...\n", o.volume, o.width, o.height, o.preset,
@@ -224,7 +234,9 @@ static pp5_status_t machine_cost_frame(void *ctx, double gaze_x, double gaze_y,
 static const replay_cost_source_t machine_cost_source = {
     .name = "machine",
     .summary = "the emulated Pixel-Planes 5 running the gaze-directed renderer (options: "
-               "volume=phantom|mrbrain,size=WxH,preset=NAME,lighting=diffuse|specular|moving)",
+               "volume=phantom|mrbrain,size=WxH,preset=NAME,lighting=diffuse|specular|moving,"
+               "division=NAME,split=pp|gp, PARAM=VALUE or set=PARAM=VALUE as pp5 machine --set, "
+               "repeatable)",
     .open = machine_cost_open,
     .cost = machine_cost_frame,
     .close = machine_cost_close,
