@@ -82,9 +82,11 @@ void fw_bands_plan(fw_session_t *s, double gx, double gy, int32_t *band_y0)
         w[u] = s->opts.plan == FW_PLAN_SAMPLES ? fw_estimate_unit(s, &cam, u, gx, gy)
                                                : unit_rays(s, u, gx, gy);
         s->unit_weight[u] = w[u];
-        /* Measured cost per estimated ray of the rows' GP in the previous
-         * frame (samples per ray vary with the data). */
-        if (s->frames > 0 && s->unit_factor[u] > 0)
+        /* Rays plan: the measured cost per estimated ray of the rows' GP in
+         * the previous frame (samples per ray vary with the data).  The
+         * samples plan already estimates that from the data for this gaze;
+         * the previous frame's factors belong to rows under another gaze. */
+        if (s->opts.plan == FW_PLAN_RAYS && s->frames > 0 && s->unit_factor[u] > 0)
             w[u] *= s->unit_factor[u];
     }
     cut_bands(w, units, unit, height, n_gp, band_y0);
