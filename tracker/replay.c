@@ -211,11 +211,8 @@ static void measure_inside(const rsample_t *s, size_t n, double interval_s, doub
     }
 }
 
-pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_frame_cost_fn cost,
-                        void *cost_ctx, replay_image_fn on_image, void *image_ctx,
-                        replay_result_t *out)
+static pp5_status_t check_params(const trace_t *trace, const replay_params_t *p)
 {
-    memset(out, 0, sizeof *out);
     if (trace->count < 2)
         return pp5_fail(PP5_E_RANGE, "replay needs at least 2 samples, the trace has %zu",
                         trace->count);
@@ -223,12 +220,13 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         !(p->refresh_hz >= 0 && p->refresh_hz <= 10000) || !(p->gap_s > 0) ||
         !isfinite(p->tracker_latency_s) || !isfinite(p->display_latency_s))
         return pp5_fail(PP5_E_CONFIG, "replay: latencies must be >= 0 and the radius > 0");
-    gaze_geometry_t rec, disp;
-    pp5_status_t st = angles_resolve(&trace->header.geometry, &rec);
-    if (st == PP5_OK)
-        st = angles_resolve(&p->display, &disp);
-    if (st != PP5_OK)
-        return st;
+    return PP5_OK;
+}
+
+/* Every sample in angles on the recording's display, with its gap segment. */
+static pp5_status_t prepare_samples(const trace_t *trace, const gaze_geometry_t *rec,
+                                    double gap_s, rsample_t **out)
+{
     size_t n = trace->count, bytes;
     if (!pp5_mul_size(n, sizeof(rsample_t), &bytes))
         return pp5_fail(PP5_E_NOMEM, "trace too long");
@@ -238,164 +236,240 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
     for (size_t i = 0; i < n; i++) {
         const gaze_sample_t *g = &trace->samples[i];
         s[i].t_s = g->t_ns / 1e9;
-        if (g->flags & GAZE_FLAG_VALID) {
-            angles_px_to_deg(&rec, g->x_px, g->y_px, &s[i].ax, &s[i].ay);
-        } else {
+        if (g->flags & GAZE_FLAG_VALID)
+            angles_px_to_deg(rec, g->x_px, g->y_px, &s[i].ax, &s[i].ay);
+        else
             s[i].ax = s[i].ay = NAN;
-        }
     }
     for (size_t i = 0; i < n; i++)
-        s[i].segment = i == 0 ? 0 : s[i - 1].segment + (s[i].t_s - s[i - 1].t_s > p->gap_s ? 1 : 0);
-    double interval_s = 1.0 / trace->header.sample_rate_hz;
-    double half_w_deg, half_h_deg;   /* rendered display edges, in angles */
-    angles_px_to_deg(&disp, disp.width_px, disp.height_px, &half_w_deg, &half_h_deg);
+        s[i].segment = i == 0 ? 0 : s[i - 1].segment + (s[i].t_s - s[i - 1].t_s > gap_s ? 1 : 0);
+    *out = s;
+    return PP5_OK;
+}
 
+/* What the frame loop carries from one frame to the next. */
+typedef struct {
+    const replay_params_t *p;
+    rsample_t *s;
+    size_t n;
+    gaze_geometry_t rec, disp;
+    double interval_s, half_w_deg, half_h_deg, t_end;
     predictor_t pred;
-    predict_reset(&pred, &p->predict);
-    double t_end_trace = s[n - 1].t_s;
-    double start = s[0].t_s + p->tracker_latency_s;
-    double prev_frame_s = NAN;
-    size_t next = 0;                 /* first sample not yet fed */
-    bool have_gaze = false;
-    double hold_ax = 0, hold_ay = 0, used_sample_t = NAN;
-    uint32_t used_segment = 0;
-    size_t hint = 0;
-    double *errors = NULL;
-    size_t nerr = 0;
+    size_t next;                    /* first sample not yet fed */
+    bool have_gaze;
+    double hold_ax, hold_ay, used_sample_t, prev_frame_s;
+    uint32_t used_segment;
+    size_t hint;
+} replay_loop_t;
 
-    while (st == PP5_OK) {
-        if (p->max_frames && out->count >= p->max_frames)
-            break;
-        /* Samples that have arrived by this frame's start. */
-        while (next < n && s[next].t_s + p->tracker_latency_s <= start) {
-            if (sample_ok(&s[next])) {
-                predict_update(&pred, s[next].t_s, s[next].ax, s[next].ay);
-                hold_ax = s[next].ax;
-                hold_ay = s[next].ay;
-                used_sample_t = s[next].t_s;
-                used_segment = s[next].segment;
-                have_gaze = true;
-            }
-            next++;
-        }
-        replay_frame_t f;
-        memset(&f, 0, sizeof f);
-        f.index = out->count;
-        f.start_s = start;
-        f.sample_t_s = used_sample_t;
-        double use_ax = 0, use_ay = 0;   /* no sample yet: the screen centre */
-        if (have_gaze) {
-            use_ax = hold_ax;
-            use_ay = hold_ay;
-            if (p->predict.kind != PREDICT_NONE) {
-                /* The display time is not known before the frame is rendered
-                 * (its cost depends on the sweet spot): predict to the start plus
-                 * the previous frame's time plus the display latency. */
-                double expect = isnan(prev_frame_s) ? 0 : prev_frame_s;
-                predict_at(&pred, start + expect + p->display_latency_s, &use_ax, &use_ay);
-            }
-        }
-        /* The sweet spot cannot usefully leave the rendered screen. */
-        if (use_ax > half_w_deg) use_ax = half_w_deg;
-        if (use_ax < -half_w_deg) use_ax = -half_w_deg;
-        if (use_ay > half_h_deg) use_ay = half_h_deg;
-        if (use_ay < -half_h_deg) use_ay = -half_h_deg;
-        angles_deg_to_px(&rec, use_ax, use_ay, &f.used_x_px, &f.used_y_px);
-        angles_deg_to_px(&disp, use_ax, use_ay, &f.spot_x_px, &f.spot_y_px);
-
-        replay_frame_cost_t c;
-        memset(&c, 0, sizeof c);
-        c.want_image = !p->timing_only;
-        st = cost(cost_ctx, f.spot_x_px, f.spot_y_px, &c);
-        if (st != PP5_OK)
-            break;
-        if (!(c.frame_s > 0) || !isfinite(c.frame_s)) {
-            st = pp5_fail(PP5_E_RANGE, "frame %zu: the frame-cost source returned %g s", f.index,
-                          c.frame_s);
-            break;
-        }
-        f.frame_s = c.frame_s;
-        f.rays = c.rays;
-        f.ring_bytes = c.ring_bytes;
-        f.end_s = start + c.frame_s;
-        double ready = f.end_s;
-        if (p->refresh_hz > 0) {
-            double period = 1.0 / p->refresh_hz;
-            ready = ceil((f.end_s - s[0].t_s) / period - 1e-9) * period + s[0].t_s;
-        }
-        f.display_s = ready + p->display_latency_s;
-        if (f.display_s > t_end_trace)
-            break;                       /* the trace ends before this image is seen */
-        double tax, tay;
-        f.true_x_px = f.true_y_px = f.error_deg = NAN;
-        if (true_gaze_at(s, n, f.display_s, interval_s, &hint, &tax, &tay)) {
-            angles_deg_to_px(&rec, tax, tay, &f.true_x_px, &f.true_y_px);
-            /* Across a recording gap the held gaze is from another recording
-             * block: not a latency error, so not scored. */
-            f.after_gap = have_gaze && s[hint].segment != used_segment;
-            if (have_gaze && !f.after_gap)
-                f.error_deg = angles_between_deg(use_ax, use_ay, tax, tay);
-        }
-        f.shown_until_s = f.display_s;   /* set when the next image is known */
-        if (on_image && c.image && (st = on_image(image_ctx, &f, c.image)) != PP5_OK)
-            break;
-        if ((st = push_frame(out, &f)) != PP5_OK)
-            break;
-        prev_frame_s = c.frame_s;
-        start = f.end_s;
+/* The samples that have arrived by time `start` go to the predictor; the
+ * newest valid one is held. */
+static void feed_samples(replay_loop_t *L, double start)
+{
+    const rsample_t *s = L->s;
+    while (L->next < L->n && s[L->next].t_s + L->p->tracker_latency_s <= start) {
+        const rsample_t *x = &s[L->next++];
+        if (!sample_ok(x))
+            continue;
+        predict_update(&L->pred, x->t_s, x->ax, x->ay);
+        L->hold_ax = x->ax;
+        L->hold_ay = x->ay;
+        L->used_sample_t = x->t_s;
+        L->used_segment = x->segment;
+        L->have_gaze = true;
     }
-    if (st == PP5_OK && out->count == 0)
-        st = pp5_fail(PP5_E_RANGE, "the trace (%.3f s) is shorter than one frame plus the latency",
-                      t_end_trace - s[0].t_s);
-    /* Each image is shown until the next one appears (the last: to the trace's end). */
-    for (size_t k = 0; st == PP5_OK && k < out->count; k++)
+}
+
+/* Where this frame's sweet spot goes, in angles: the held (or predicted)
+ * gaze, the screen centre before any sample, kept on the rendered screen. */
+static void choose_spot(replay_loop_t *L, double start, double *ax, double *ay)
+{
+    *ax = *ay = 0;
+    if (L->have_gaze) {
+        *ax = L->hold_ax;
+        *ay = L->hold_ay;
+        if (L->p->predict.kind != PREDICT_NONE) {
+            /* The display time is not known before the frame is rendered (its
+             * cost depends on the sweet spot): predict to the start plus the
+             * previous frame's time plus the display latency. */
+            double expect = isnan(L->prev_frame_s) ? 0 : L->prev_frame_s;
+            predict_at(&L->pred, start + expect + L->p->display_latency_s, ax, ay);
+        }
+    }
+    *ax = fmax(-L->half_w_deg, fmin(L->half_w_deg, *ax));
+    *ay = fmax(-L->half_h_deg, fmin(L->half_h_deg, *ay));
+}
+
+/* When the image of a frame ending at end_s is seen: the next refresh (if
+ * any) plus the display latency. */
+static double display_time(const replay_loop_t *L, double end_s)
+{
+    double ready = end_s;
+    if (L->p->refresh_hz > 0) {
+        double period = 1.0 / L->p->refresh_hz, t0 = L->s[0].t_s;
+        ready = ceil((end_s - t0) / period - 1e-9) * period + t0;
+    }
+    return ready + L->p->display_latency_s;
+}
+
+/* The true gaze when the image is seen, and the error of the spot used. */
+static void score_frame(replay_loop_t *L, double use_ax, double use_ay, replay_frame_t *f)
+{
+    double tax, tay;
+    f->true_x_px = f->true_y_px = f->error_deg = NAN;
+    if (!true_gaze_at(L->s, L->n, f->display_s, L->interval_s, &L->hint, &tax, &tay))
+        return;
+    angles_deg_to_px(&L->rec, tax, tay, &f->true_x_px, &f->true_y_px);
+    /* Across a recording gap the held gaze is from another recording block:
+     * not a latency error, so not scored. */
+    f->after_gap = L->have_gaze && L->s[L->hint].segment != L->used_segment;
+    if (L->have_gaze && !f->after_gap)
+        f->error_deg = angles_between_deg(use_ax, use_ay, tax, tay);
+}
+
+/* One frame starting at `start`: *done when the trace ends before its
+ * image would be seen. */
+static pp5_status_t run_frame(replay_loop_t *L, double start, size_t index,
+                              replay_frame_cost_fn cost, void *cost_ctx, replay_frame_t *f,
+                              const image8_t **image, bool *done)
+{
+    feed_samples(L, start);
+    memset(f, 0, sizeof *f);
+    f->index = index;
+    f->start_s = start;
+    f->sample_t_s = L->used_sample_t;
+    double use_ax, use_ay;
+    choose_spot(L, start, &use_ax, &use_ay);
+    angles_deg_to_px(&L->rec, use_ax, use_ay, &f->used_x_px, &f->used_y_px);
+    angles_deg_to_px(&L->disp, use_ax, use_ay, &f->spot_x_px, &f->spot_y_px);
+    replay_frame_cost_t c;
+    memset(&c, 0, sizeof c);
+    c.want_image = !L->p->timing_only;
+    pp5_status_t st = cost(cost_ctx, f->spot_x_px, f->spot_y_px, &c);
+    if (st != PP5_OK)
+        return st;
+    if (!(c.frame_s > 0) || !isfinite(c.frame_s))
+        return pp5_fail(PP5_E_RANGE, "frame %zu: the frame-cost source returned %g s", index,
+                        c.frame_s);
+    f->frame_s = c.frame_s;
+    f->rays = c.rays;
+    f->ring_bytes = c.ring_bytes;
+    f->end_s = start + c.frame_s;
+    f->display_s = display_time(L, f->end_s);
+    *done = f->display_s > L->t_end;
+    if (*done)
+        return PP5_OK;
+    score_frame(L, use_ax, use_ay, f);
+    f->shown_until_s = f->display_s;   /* set when the next image is known */
+    *image = c.image;
+    L->prev_frame_s = c.frame_s;
+    return PP5_OK;
+}
+
+/* The summary over all frames; each image is shown until the next one
+ * appears (the last: to the trace's end). */
+static pp5_status_t summarise(replay_loop_t *L, replay_result_t *out)
+{
+    for (size_t k = 0; k < out->count; k++)
         out->frames[k].shown_until_s =
-            k + 1 < out->count ? out->frames[k + 1].display_s : t_end_trace;
-    if (st == PP5_OK && !(errors = malloc(out->count * sizeof *errors)))
-        st = pp5_fail(PP5_E_NOMEM, "out of memory");
+            k + 1 < out->count ? out->frames[k + 1].display_s : L->t_end;
+    double *errors = malloc(out->count * sizeof *errors);
+    if (!errors)
+        return pp5_fail(PP5_E_NOMEM, "out of memory");
     replay_summary_t *sum = &out->summary;
     double inside = 0, err_sum = 0, lat_sum = 0, frame_sum = 0;
-    size_t lat_n = 0;
-    hint = 0;
-    for (size_t k = 0; st == PP5_OK && k < out->count; k++) {
+    size_t nerr = 0, hint = 0;
+    for (size_t k = 0; k < out->count; k++) {
         replay_frame_t *f = &out->frames[k];
         double sax, say;
-        angles_px_to_deg(&rec, f->used_x_px, f->used_y_px, &sax, &say);
+        angles_px_to_deg(&L->rec, f->used_x_px, f->used_y_px, &sax, &say);
         if (!isnan(f->sample_t_s) && !f->after_gap)
-            measure_inside(s, n, interval_s, p->fullres_radius_deg, sax, say, f, &hint);
+            measure_inside(L->s, L->n, L->interval_s, L->p->fullres_radius_deg, sax, say, f,
+                           &hint);
         sum->frames_after_gap += f->after_gap;
         inside += f->inside_s;
         sum->valid_display_s += f->valid_s;
-        if (!isnan(f->error_deg)) {
+        if (!isnan(f->error_deg)) {        /* gaps between recording blocks excluded */
             errors[nerr++] = f->error_deg;
             err_sum += f->error_deg;
-            if (f->error_deg > sum->max_error_deg)
-                sum->max_error_deg = f->error_deg;
-        }
-        if (!isnan(f->error_deg)) {        /* gaps between recording blocks excluded */
+            sum->max_error_deg = fmax(sum->max_error_deg, f->error_deg);
             lat_sum += f->display_s - f->sample_t_s;
-            lat_n++;
         }
         frame_sum += f->frame_s;
         sum->rays += f->rays;
         sum->ring_bytes += f->ring_bytes;
     }
-    if (st == PP5_OK) {
-        sum->frames = out->count;
-        sum->frames_with_error = nerr;
-        sum->trace_s = t_end_trace - s[0].t_s;
-        sum->inside_fraction = sum->valid_display_s > 0 ? inside / sum->valid_display_s : NAN;
-        sum->mean_error_deg = nerr ? err_sum / (double)nerr : NAN;
-        sum->p95_error_deg = replay_percentile(errors, nerr, 0.95);
-        if (!nerr)
-            sum->max_error_deg = NAN;
-        sum->mean_frame_s = frame_sum / (double)out->count;
-        double span = out->frames[out->count - 1].end_s - out->frames[0].start_s;
-        sum->frames_per_s = span > 0 ? (double)out->count / span : NAN;
-        sum->mean_latency_s = lat_n ? lat_sum / (double)lat_n : NAN;
-    }
+    sum->frames = out->count;
+    sum->frames_with_error = nerr;
+    sum->trace_s = L->t_end - L->s[0].t_s;
+    sum->inside_fraction = sum->valid_display_s > 0 ? inside / sum->valid_display_s : NAN;
+    sum->mean_error_deg = nerr ? err_sum / (double)nerr : NAN;
+    sum->p95_error_deg = replay_percentile(errors, nerr, 0.95);
+    if (!nerr)
+        sum->max_error_deg = NAN;
+    sum->mean_frame_s = frame_sum / (double)out->count;
+    double span = out->frames[out->count - 1].end_s - out->frames[0].start_s;
+    sum->frames_per_s = span > 0 ? (double)out->count / span : NAN;
+    sum->mean_latency_s = nerr ? lat_sum / (double)nerr : NAN;
     free(errors);
-    free(s);
+    return PP5_OK;
+}
+
+static pp5_status_t loop_init(replay_loop_t *L, const trace_t *trace, const replay_params_t *p)
+{
+    memset(L, 0, sizeof *L);
+    L->p = p;
+    L->n = trace->count;
+    pp5_status_t st = angles_resolve(&trace->header.geometry, &L->rec);
+    if (st == PP5_OK)
+        st = angles_resolve(&p->display, &L->disp);
+    rsample_t *s = NULL;
+    if (st == PP5_OK)
+        st = prepare_samples(trace, &L->rec, p->gap_s, &s);
+    if (st != PP5_OK)
+        return st;
+    L->s = s;
+    L->interval_s = 1.0 / trace->header.sample_rate_hz;
+    /* rendered display edges, in angles */
+    angles_px_to_deg(&L->disp, L->disp.width_px, L->disp.height_px, &L->half_w_deg,
+                     &L->half_h_deg);
+    L->t_end = s[L->n - 1].t_s;
+    L->used_sample_t = L->prev_frame_s = NAN;
+    predict_reset(&L->pred, &p->predict);
+    return PP5_OK;
+}
+
+pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_frame_cost_fn cost,
+                        void *cost_ctx, replay_image_fn on_image, void *image_ctx,
+                        replay_result_t *out)
+{
+    memset(out, 0, sizeof *out);
+    pp5_status_t st = check_params(trace, p);
+    replay_loop_t L;
+    if (st == PP5_OK)
+        st = loop_init(&L, trace, p);
+    if (st != PP5_OK)
+        return st;
+    double start = L.s[0].t_s + p->tracker_latency_s;
+    while (st == PP5_OK && !(p->max_frames && out->count >= p->max_frames)) {
+        replay_frame_t f;
+        const image8_t *image = NULL;
+        bool done = false;
+        st = run_frame(&L, start, out->count, cost, cost_ctx, &f, &image, &done);
+        if (st != PP5_OK || done)
+            break;
+        if (on_image && image && (st = on_image(image_ctx, &f, image)) != PP5_OK)
+            break;
+        if ((st = push_frame(out, &f)) != PP5_OK)
+            break;
+        start = f.end_s;
+    }
+    if (st == PP5_OK && out->count == 0)
+        st = pp5_fail(PP5_E_RANGE, "the trace (%.3f s) is shorter than one frame plus the latency",
+                      L.t_end - L.s[0].t_s);
+    if (st == PP5_OK)
+        st = summarise(&L, out);
+    free(L.s);
     if (st != PP5_OK)
         replay_result_free(out);
     return st;
