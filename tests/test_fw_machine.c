@@ -252,7 +252,8 @@ TEST(fw_gp_memory_limit_is_a_firmware_error)
     volume_free(&f.v);
 }
 
-static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles)
+static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles,
+                         uint64_t *sum_cast_cycles)
 {
     fixture_t f;
     fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL);
@@ -277,36 +278,49 @@ static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles)
     image8_free(&img);
     image8_free(&ref);
     native_renderer_free(&nr);
-    *max_cast_cycles = 0;
-    for (unsigned g = 0; g < s.m.n_gp; g++)
+    *max_cast_cycles = *sum_cast_cycles = 0;
+    for (unsigned g = 0; g < s.m.n_gp; g++) {
         if (s.last_gp[g].cycles_cast > *max_cast_cycles)
             *max_cast_cycles = s.last_gp[g].cycles_cast;
+        *sum_cast_cycles += s.last_gp[g].cycles_cast;
+    }
     fw_session_free(&s);
     volume_free(&f.v);
     return r.frame_time_s;
 }
 
+/* Every ray is cast once, by exactly one GP, at a cost that depends only on
+ * the ray: so the GPs' summed casting cycles cannot depend on the GP count or
+ * the ring, the busiest GP holds at least the mean, and the frame cannot end
+ * before the busiest GP has cast. */
 TEST(fw_scaling_sanity)
 {
-    uint64_t c_a, c_b, c_c;
-    double t_fast = frame_time(4, 20e6, &c_a);
-    double t_slow = frame_time(4, 10e6, &c_b);
-    /* Halving the ring bandwidth never makes the frame faster. */
-    CHECK_MSG(t_slow >= t_fast, "%g s at 10 MHz vs %g s at 20 MHz", t_slow, t_fast);
-    /* The same work: casting cycles do not depend on the ring. */
-    CHECK_EQ(c_a, c_b);
-    /* Doubling the GPs never makes the busiest GP's casting slower. */
-    double t8 = frame_time(8, 20e6, &c_c);
-    CHECK_MSG(c_c <= c_a, "max cast cycles %llu with 8 GPs vs %llu with 4",
-              (unsigned long long)c_c, (unsigned long long)c_a);
-    CHECK(t8 > 0);
-    /* More GPs than 4-row bands (64 rows, 32 GPs): the empty bands are the
-     * last ones and the image is still complete (checked in frame_time by
-     * the ray count against a 16-GP run). */
-    uint64_t c32, c16;
-    double t32 = frame_time(32, 20e6, &c32);
-    double t16 = frame_time(16, 20e6, &c16);
-    CHECK(t32 > 0 && t16 > 0);
+    static const int counts[] = {4, 8, 16, 32};
+    uint64_t max_c[4], sum_c[4];
+    double t[4];
+    for (int i = 0; i < 4; i++)
+        t[i] = frame_time(counts[i], 20e6, &max_c[i], &sum_c[i]);
+    uint64_t max_slow, sum_slow;
+    double t_slow = frame_time(4, 10e6, &max_slow, &sum_slow);
+    CHECK_MSG(t_slow >= t[0], "%g s at 10 MHz vs %g s at 20 MHz", t_slow, t[0]);
+    CHECK_EQ(sum_slow, sum_c[0]);
+    CHECK_EQ(max_slow, max_c[0]);
+    pp5_params_t defaults;
+    pp5_params_default(&defaults);
+    double clock = defaults.gp_clock_hz;   /* frame_time leaves the GP clock alone */
+    for (int i = 0; i < 4; i++) {
+        double mean = (double)sum_c[i] / counts[i];
+        CHECK_EQ(sum_c[i], sum_c[0]);
+        CHECK_MSG((double)max_c[i] >= mean, "%d GPs: max %llu below the mean %.0f", counts[i],
+                  (unsigned long long)max_c[i], mean);
+        /* Balanced bands: the busiest GP within 1.6x the mean even at 2 rows a GP. */
+        CHECK_MSG((double)max_c[i] <= 1.6 * mean, "%d GPs: max %llu vs mean %.0f", counts[i],
+                  (unsigned long long)max_c[i], mean);
+        CHECK_MSG(t[i] >= (double)max_c[i] / clock, "%d GPs: frame %g s before its casting %g s",
+                  counts[i], t[i], (double)max_c[i] / clock);
+    }
+    /* Up to 16 GPs the casting dominates this frame: more GPs, a faster frame. */
+    CHECK_MSG(t[1] < t[0] && t[2] < t[1], "4/8/16 GPs: %g %g %g s", t[0], t[1], t[2]);
 }
 
 TEST(fw_runs_are_deterministic)
