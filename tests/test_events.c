@@ -143,20 +143,23 @@ TEST(events_tsv_round_trips_every_field)
     events_list_t back;
     REQUIRE_MSG(events_read_tsv(a, &back) == PP5_OK, "%s", pp5_error_text());
     REQUIRE(back.count == r.list.count);
-    size_t bad = 0;
+    size_t bad = 0, first_bad = 0;
     for (size_t i = 0; i < back.count; i++) {
         const gaze_event_t *x = &r.list.events[i], *y = &back.events[i];
         bool same_nan = isnan(x->amplitude_deg) == isnan(y->amplitude_deg) &&
                         isnan(x->start_x_px) == isnan(y->start_x_px);
-        bad += x->cls != y->cls || x->first != y->first || x->last != y->last || !same_nan ||
+        bool differs = x->cls != y->cls || x->first != y->first || x->last != y->last || !same_nan ||
                fabs(x->onset_s - y->onset_s) > 5e-7 || fabs(x->duration_s - y->duration_s) > 5e-7 ||
                (!isnan(x->amplitude_deg) && fabs(x->amplitude_deg - y->amplitude_deg) > 5e-5) ||
                (!isnan(x->peak_velocity_dps) &&
                 fabs(x->peak_velocity_dps - y->peak_velocity_dps) > 5e-3) ||
                (!isnan(x->start_x_px) && (fabs(x->start_x_px - y->start_x_px) > 5e-4 ||
                                           fabs(x->end_y_px - y->end_y_px) > 5e-4));
+        if (differs && bad++ == 0)
+            first_bad = i;
     }
-    CHECK_EQ(bad, 0);
+    CHECK_MSG(bad == 0, "%zu of %zu events differ after the TSV round trip; first: event %zu",
+              bad, back.count, first_bad);
     /* Written again, the same bytes. */
     REQUIRE(events_write_tsv(b, &back) == PP5_OK);
     char *ta = pp5_test_read_file(a), *tb = pp5_test_read_file(b);

@@ -60,11 +60,13 @@ static void run_case_l(const float half[3], const float *light, float ks, int ex
     CHECK(res.total_cycles > 0);
     for (int s = 0; s < SLOTS; s++) {
         REQUIRE(renderer_bs_read(&r, (unsigned)s * 3 + 2, out) == PP5_OK);
-        int bad = 0;
+        int bad = 0, first = 0;
         for (int i = 0; i < N; i++)
-            if (out[i] != vr_shade_voxel(&c, a[s][i], n[s][i]))
-                bad++;
-        CHECK_MSG(bad == 0, "%d of %d voxels differ (exponent %d, ks %g)", bad, N, exponent, ks);
+            if (out[i] != vr_shade_voxel(&c, a[s][i], n[s][i]) && bad++ == 0)
+                first = i;
+        CHECK_MSG(bad == 0, "slot %d: %d of %d voxels differ (exponent %d, ks %g); first: PP %d "
+                  "gave %u, want %u", s, bad, N, exponent, ks, first, (unsigned)out[first],
+                  (unsigned)vr_shade_voxel(&c, a[s][first], n[s][first]));
     }
     pp_stream_free(&st);
     renderer_free(&r);

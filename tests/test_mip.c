@@ -131,6 +131,7 @@ TEST(mip_octree_empty_means_zero_sample)
     octree_t o;
     REQUIRE(octree_build(&o, &m, 1) == PP5_OK);
     long empty = 0, occupied = 0, bad = 0, outside = 0, empty_exact = 0, occupied_exact = 0;
+    float first_bad[4] = {0};      /* level, x, y, z of the first non-zero sample */
     for (int n = 0; n < m.levels; n++) {
         for (float z = -0.4f; z < 13.4f; z += 0.37f)
             for (float y = -0.4f; y < 12.4f; y += 0.41f)
@@ -146,8 +147,8 @@ TEST(mip_octree_empty_means_zero_sample)
                                 outside++;
                         for (float f = 0.0f; f < 1.0f; f += 0.125f) {
                             mip3d_sample(&m, (float)n + f, p, s);
-                            if (s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f)
-                                bad++;
+                            if ((s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f) && bad++ == 0)
+                                memcpy(first_bad, (float[4]){(float)n + f, x, y, z}, sizeof first_bad);
                         }
                     }
                     /* Samples at exactly level n. */
@@ -159,8 +160,8 @@ TEST(mip_octree_empty_means_zero_sample)
                             if (!(p[a] >= lo[a] && p[a] < hi[a]))
                                 outside++;
                         mip3d_sample(&m, (float)n, p, s);
-                        if (s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f)
-                            bad++;
+                        if ((s[MIP3D_A] != 0.0f || s[MIP3D_R] != 0.0f) && bad++ == 0)
+                            memcpy(first_bad, (float[4]){(float)n, x, y, z}, sizeof first_bad);
                     }
                 }
     }
@@ -168,7 +169,8 @@ TEST(mip_octree_empty_means_zero_sample)
     CHECK(occupied > 0);
     CHECK(occupied_exact > 0);
     CHECK(empty_exact > empty);          /* the exact grid is tighter */
-    CHECK_EQ(bad, 0);
+    CHECK_MSG(bad == 0, "%ld samples in empty nodes are not zero; first: level %g at (%g, %g, %g)",
+              bad, first_bad[0], first_bad[1], first_bad[2], first_bad[3]);
     CHECK_EQ(outside, 0);
     octree_free(&o);
     mip3d_free(&m);
