@@ -91,6 +91,20 @@ static void mip3d_filter_slice(void *ctx, int z, int thread)
     }
 }
 
+void mip3d_voxel_spacing(const volume_t *v, float spacing[3], float inv_spacing[3])
+{
+    double sp[3], smin = 0.0;
+    for (int a = 0; a < 3; a++) {
+        sp[a] = v->spacing[a] > 0.0 && isfinite(v->spacing[a]) ? v->spacing[a] : 1.0;
+        if (smin == 0.0 || sp[a] < smin)
+            smin = sp[a];
+    }
+    for (int a = 0; a < 3; a++) {
+        spacing[a] = (float)(sp[a] / smin);
+        inv_spacing[a] = (float)(smin / sp[a]);
+    }
+}
+
 void mip3d_free(mip3d_t *m)
 {
     for (int i = 0; i < MIP3D_MAX_LEVELS; i++)
@@ -106,16 +120,7 @@ pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
         return pp5_fail(PP5_E_RANGE, "mip3d: empty volume");
     m->lighting = shade->lighting;
     m->stride = shade->lighting == SHADE_DIFFUSE_FIXED_LIGHT ? 4 : 8;
-    double sp[3], smin = 0.0;
-    for (int a = 0; a < 3; a++) {
-        sp[a] = v->spacing[a] > 0.0 && isfinite(v->spacing[a]) ? v->spacing[a] : 1.0;
-        if (smin == 0.0 || sp[a] < smin)
-            smin = sp[a];
-    }
-    for (int a = 0; a < 3; a++) {
-        m->spacing[a] = (float)(sp[a] / smin);
-        m->inv_spacing[a] = (float)(smin / sp[a]);
-    }
+    mip3d_voxel_spacing(v, m->spacing, m->inv_spacing);
     int nx = v->nx, ny = v->ny, nz = v->nz;
     for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
         size_t voxels, floats;

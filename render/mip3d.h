@@ -55,6 +55,9 @@ typedef struct {
 pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
                          const shade_params_t *shade, int threads);
 void mip3d_free(mip3d_t *m);
+/* Object-space size of a voxel (smallest axis = 1) and its inverse: the
+ * units every pyramid over the volume shares with the camera. */
+void mip3d_voxel_spacing(const volume_t *v, float spacing[3], float inv_spacing[3]);
 
 /* Level-n coordinate of a level-0 voxel coordinate p: (p + 0.5) / 2^n - 0.5. */
 static inline float mip3d_level_coord(float p, int n)
