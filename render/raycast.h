@@ -62,6 +62,8 @@ typedef struct {
 } camera_t;
 
 void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height);
+/* The camera axes (object-space unit vectors) for the view's angles. */
+void view_basis(const view_params_t *v, float right[3], float down[3], float forward[3]);
 /* Ray through image point (px, py): origin and unit direction in object space. */
 void camera_ray(const camera_t *c, float px, float py, float origin[3], float dir[3]);
 
