@@ -146,6 +146,8 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         s.gaze_x = 0.5 * (s.width - 1);
         s.gaze_y = 0.5 * (s.height - 1);
     }
+    blend_settings_fill(&s.blend, sc.window_centre, sc.window_width,
+                        (const float[3]){sc.rot_x_deg, sc.rot_y_deg, sc.rot_z_deg});
     gaze_model_t check;       /* refuse a bad display before the costly build */
     st = gaze_model_init(&check, &s.display, s.width, s.height);
     if (st != PP5_OK) {
@@ -154,7 +156,10 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
     }
     native_renderer_t r;
     st = native_renderer_init(&r, &sc.volume, &c->tf, &c->shade, s.threads);
+    if (st == PP5_OK && s.blend.mode != BLEND_COMPOSITE)
+        st = native_renderer_build_scalar(&r, &sc.volume, s.blend.pyramid);
     if (st != PP5_OK) {
+        native_renderer_free(&r);
         scene_free(&sc);
         return st;
     }
@@ -164,6 +169,9 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
     fprintf(log, "3D mip map: %d levels, %d floats/voxel, %.1f MB, built in %.0f ms; octree "
             "%.1f MB in %.0f ms\n", r.mip.levels, r.mip.stride, r.mip.bytes / 1e6,
             r.ms_build_mip, r.octree.bytes / 1e6, r.ms_build_octree);
+    if (s.blend.mode != BLEND_COMPOSITE)
+        fprintf(log, "blend %s: %s value pyramid %.1f MB in %.0f ms\n", blend_mode_name(s.blend.mode),
+                scalar_pyramid_kind_name(s.blend.pyramid), r.scalar.bytes / 1e6, r.ms_build_scalar);
 
     int frames = c->progressive_frames > 0 ? c->progressive_frames : 1;
     s.progressive = c->progressive_frames > 0;
@@ -207,7 +215,10 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
         native_renderer_t r2;
         st = native_renderer_init(&r2, &sc.volume, &c->tf, &c->shade, s.threads);
         if (st == PP5_OK) {
-            st = native_renderer_frame(&r2, &fs, &ref, &full_stats);
+            if (s.blend.mode != BLEND_COMPOSITE)
+                st = native_renderer_build_scalar(&r2, &sc.volume, s.blend.pyramid);
+            if (st == PP5_OK)
+                st = native_renderer_frame(&r2, &fs, &ref, &full_stats);
             native_renderer_free(&r2);
         }
         if (st == PP5_OK)
@@ -254,6 +265,7 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
             json_kv_double(&j, "sample_step", s.view.sample_step);
             json_kv_double(&j, "early_termination", s.view.early_termination);
             json_kv_bool(&j, "octree", s.view.use_octree);
+            blend_report_json(&j, &s.blend);
             json_kv_string(&j, "transfer_function", c->tf.name);
             json_kv_string(&j, "lighting", shade_case_name(c->shade.lighting));
             json_kv_int(&j, "threads", s.threads > 0 ? s.threads : r.threads);

@@ -70,7 +70,7 @@ enum {
     OPT_ROTY, OPT_ROTZ, OPT_ZOOM, OPT_PROJECTION, OPT_EYE, OPT_STEP, OPT_EARLY, OPT_NO_OCTREE,
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
-    OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA
+    OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_BLEND
 };
 
 static pp5_status_t parse_dims3(const char *opt, const char *text, volume_raw_spec_t *spec)
@@ -139,13 +139,24 @@ static int render_main(int argc, char **argv)
         {"mip-levels-out", required_argument, NULL, OPT_LEVELS_OUT},
         {"fig5", required_argument, NULL, OPT_FIG5},
         {"threads", required_argument, NULL, OPT_THREADS},
+        /* render/blend.h: one parser for all of these (blend_option). */
+        {"blend", required_argument, NULL, OPT_BLEND},
+        {"window", required_argument, NULL, OPT_BLEND},
+        {"tolerance", required_argument, NULL, OPT_BLEND},
+        {"depth-weight", required_argument, NULL, OPT_BLEND},
+        {"depth", required_argument, NULL, OPT_BLEND},
+        {"demip-reading", required_argument, NULL, OPT_BLEND},
+        {"sphere-weight", required_argument, NULL, OPT_BLEND},
+        {"sphere-map", required_argument, NULL, OPT_BLEND},
+        {"sphere-rotate", required_argument, NULL, OPT_BLEND},
+        {"mip-pyramid", required_argument, NULL, OPT_BLEND},
         {"help", no_argument, NULL, OPT_HELP},
         {NULL, 0, NULL, 0},
     };
     pp5_status_t st = PP5_OK;
     double d, x, y;
     long l;
-    int c;
+    int c, longindex = 0;
     /* --- firmware hook: machine-only options are taken out before parsing --- */
     fw_render_opts_t fw_opts;
     argc = fw_render_filter_args(argc, argv, &fw_opts, &st);
@@ -154,7 +165,7 @@ static int render_main(int argc, char **argv)
     /* --- end firmware hook --- */
     optind = 1;
     opterr = 1;
-    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    while (st == PP5_OK && (c = getopt_long(argc, argv, "h", longopts, &longindex)) != -1) {
         switch (c) {
         case OPT_PHANTOM: cli.input = RENDER_INPUT_PHANTOM; cli.input_name = optarg; break;
         case OPT_DATASET: cli.input = RENDER_INPUT_DATASET; cli.input_name = optarg; break;
@@ -254,9 +265,11 @@ static int render_main(int argc, char **argv)
         case OPT_FIG5: cli.fig5_png = optarg; break;
         case OPT_THREADS: st = cliopt_long("--threads", optarg, 0, 64, &l);
             cli.settings.threads = (int)l; break;
+        case OPT_BLEND: st = blend_option(longopts[longindex].name, optarg, &cli.settings.blend); break;
         case OPT_HELP:
         case 'h':
             render_usage();
+            fputs(blend_help(), stdout);
             fputs(fw_render_help(), stdout); /* firmware hook */
             return 0;
         default:
@@ -266,6 +279,8 @@ static int render_main(int argc, char **argv)
     if (st == PP5_OK && optind < argc)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);
     /* --- firmware hook --- */
+    if (st == PP5_OK && fw_opts.machine && cli.settings.blend.mode != BLEND_COMPOSITE)
+        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only (firmware MIP/DEMIP/MIDA: issue 11)");
     if (st == PP5_OK && fw_opts.machine)
         return (st = fw_render_cli_run(&cli, &fw_opts, stdout)) == PP5_OK ? 0 : cliopt_report("render", st);
     /* --- end firmware hook --- */
