@@ -17,6 +17,9 @@
 #include <math.h>
 #include <string.h>
 
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
+
 typedef enum { SKIP_RAY1, SKIP_RAY2, SKIP_EMPTY } skip_rule_t;
 
 typedef struct {
@@ -27,6 +30,9 @@ typedef struct {
     float scale, inv_scale, inv_base;
     float inv_dv[3];
     int dims[3];
+    const float *threshold_value;  /* the pyramid's distance-map levels */
+    v4f ov_v, dv_v;               /* ray origin and direction, lane 3 = 0 */
+    v4i top_v;                    /* dims - 1 (lane 3 = 0) */
 } fast_ray_t;
 
 static inline bool skippable(const fast_ray_t *r, skip_rule_t rule, float param, float bound)
@@ -41,27 +47,41 @@ static inline bool skippable(const fast_ray_t *r, skip_rule_t rule, float param,
     return m <= 0.0f;
 }
 
-/* Level-0 position, level coordinates, floors and clamped cell of position k. */
-static inline void position_cell(const fast_ray_t *r, long k, float q[3], int fl[3], int c[3])
+/* Level coordinates, floors and clamped cell of position k, three axes side
+ * by side: each lane does exactly the scalar operations of the reference
+ * (ISO C mode: no fused multiply-add). */
+static inline v4i cell_v(const fast_ray_t *r, long k, v4f *qv, v4i *flv)
 {
     const blend_geom_t *g = r->g;
     float t = g->t0 + (float)k * g->base;
-    float p[3] = {g->ov[0] + t * g->dv[0], g->ov[1] + t * g->dv[1], g->ov[2] + t * g->dv[2]};
-    scalar_level_coords(p, r->n, q, fl);
-    for (int a = 0; a < 3; a++)
-        c[a] = fl[a] < 0 ? 0 : (fl[a] >= r->dims[a] ? r->dims[a] - 1 : fl[a]);
+    v4f tv = {t, t, t, t};
+    v4f pv = r->ov_v + tv * r->dv_v;
+    *qv = (pv + 0.5f) * r->inv_scale - 0.5f;
+    v4i iv = __builtin_convertvector(*qv, v4i);
+    *flv = iv + (__builtin_convertvector(iv, v4f) > *qv);   /* -1 where truncation rounded up */
+    v4i cv = *flv & ~(*flv < 0);
+    v4i over = cv > r->top_v;
+    return (cv & ~over) | (r->top_v & over);
 }
 
-/* Parameter where the ray leaves the node of height h holding cell c
- * (INFINITY when it never does: faces on the grid's edge hold the clamped
- * cells beyond); the node's cell range [first, last) per axis. */
-static inline float node_exit(const fast_ray_t *r, const int c[3], int h, int first[3],
-                              int last[3])
+static inline void position_cell(const fast_ray_t *r, long k, float q[3], int fl[3], int c[3])
+{
+    v4f qv;
+    v4i flv, cv = cell_v(r, k, &qv, &flv);
+    for (int a = 0; a < 3; a++) {
+        q[a] = qv[a];
+        fl[a] = flv[a];
+        c[a] = cv[a];
+    }
+}
+
+/* Parameter where the ray leaves the box of cells [first, last) (INFINITY
+ * when it never does: faces on the grid's edge hold the clamped cells
+ * beyond). */
+static inline float box_exit(const fast_ray_t *r, const int first[3], const int last[3])
 {
     float t_exit = INFINITY;
     for (int a = 0; a < 3; a++) {
-        first[a] = (c[a] >> h) << h;
-        last[a] = first[a] + (1 << h);
         float dv = r->g->dv[a];
         int cell;
         if (dv > 0.0f && last[a] < r->dims[a])
@@ -77,57 +97,102 @@ static inline float node_exit(const fast_ray_t *r, const int c[3], int h, int fi
     return t_exit;
 }
 
-/* From position *k, passes the positions `rule` lets the ray skip; returns
- * true with *k at the next position to draw (its coordinates in q, fl), or
- * false when the window [0, positions) is exhausted. */
-static bool advance(const fast_ray_t *r, skip_rule_t rule, float param, long *k_io, float q[3],
-                    int fl[3])
+static inline bool in_box(const fast_ray_t *r, long k, const int first[3], const int last[3])
+{
+    float q[3];
+    int fl[3], c[3];
+    position_cell(r, k, q, fl, c);
+    return c[0] >= first[0] && c[0] < last[0] && c[1] >= first[1] && c[1] < last[1] &&
+           c[2] >= first[2] && c[2] < last[2];
+}
+
+/* Position k lies in the box [first, last) whose positions may all be
+ * skipped: returns the first position beyond it.  The estimate from the
+ * exit parameter is corrected with the exact cell test on both sides of
+ * it; by monotonicity (see the top), positions k..kc-1 are then all inside. */
+static inline long jump_box(const fast_ray_t *r, long k, const int first[3], const int last[3])
+{
+    const long k_end = r->g->positions;
+    float t_exit = box_exit(r, first, last);
+    if (t_exit == INFINITY)
+        return k_end;
+    float x = (t_exit - r->g->t0) * r->inv_base;
+    long kc = !(x < (float)k_end) ? k_end : (x <= 0.0f ? 0 : -(long)mip3d_floor_int(-x));
+    if (kc <= k)
+        kc = k + 1;
+    for (int i = 0; i < 2 && kc > k + 1 && !in_box(r, kc - 1, first, last); i++)
+        kc--;
+    if (kc > k + 1 && !in_box(r, kc - 1, first, last))
+        return k + 1;
+    for (int i = 0; i < 2 && kc < k_end && in_box(r, kc, first, last); i++)
+        kc++;
+    return kc;
+}
+
+/* The highest threshold level whose materials `rule` may skip (-1: none). */
+static inline int threshold_level(const fast_ray_t *r, skip_rule_t rule, float param)
+{
+    int j = SCALAR_THRESHOLDS - 1;
+    while (j >= 0 && !skippable(r, rule, param, r->threshold_value[j]))
+        j--;
+    return j;
+}
+
+/* From position *k, passes the positions `rule` lets the ray skip, a brick
+ * (or a cube of bricks) at a time; returns true with [*k, *run_end) the
+ * positions of the next brick that may hold a sample that matters (all are
+ * drawn: drawing a skippable sample is always allowed), or false when the
+ * window [0, positions) is exhausted. */
+static bool advance(const fast_ray_t *r, skip_rule_t rule, float param, long *k_io,
+                    long *run_end)
 {
     const scalar_level_t *L = r->L;
     const long k_end = r->g->positions;
+    const int bs = SCALAR_BRICK_SHIFT;
+    const int j = L->brick_dist ? threshold_level(r, rule, param) : -1;
+    const int top = L->heights - 1 < bs ? L->heights - 1 : bs;
     long k = *k_io;
     while (k < k_end) {
-        int c[3];
+        int c[3], first[3], last[3], fl[3];
+        float q[3];
         position_cell(r, k, q, fl, c);
-        if (!skippable(r, rule, param, scalar_node_max(L, 0, c[0], c[1], c[2]))) {
-            *k_io = k;
-            return true;
-        }
-        int h = 0;
-        while (h + 1 < L->heights &&
-               skippable(r, rule, param, scalar_node_max(L, h + 1, c[0], c[1], c[2])))
-            h++;
-        if (h == 0) {
-            k++;
+        int d = j >= 0 ? scalar_brick_dist(L, j, c[0], c[1], c[2]) : 0;
+        if (d > 0) {
+            /* Every brick within chessboard distance d - 1 is skippable. */
+            for (int a = 0; a < 3; a++) {
+                int b = c[a] >> bs;
+                first[a] = (b - (d - 1)) << bs;
+                last[a] = (b + d) << bs;
+            }
+            k = jump_box(r, k, first, last);
             continue;
         }
-        int first[3], last[3];
-        float t_exit = node_exit(r, c, h, first, last);
-        if (t_exit == INFINITY) {
-            k = k_end;
-            break;
+        for (int a = 0; a < 3; a++) {
+            first[a] = (c[a] >> top) << top;
+            last[a] = first[a] + (1 << top);
         }
-        /* First position at or beyond a hair inside the exit, checked below. */
-        float x = (t_exit - 1e-3f - r->g->t0) * r->inv_base;
-        long kc = x >= (float)k_end ? k_end : (x <= 0.0f ? 0 : -(long)mip3d_floor_int(-x));
-        if (kc > k + 1) {
-            float q2[3];
-            int fl2[3], c2[3];
-            position_cell(r, kc - 1, q2, fl2, c2);
-            bool inside = true;
-            for (int a = 0; a < 3; a++)
-                inside = inside && c2[a] >= first[a] && c2[a] < last[a];
-            k = inside ? kc : k + 1;
-        } else {
-            k++;
+        if (skippable(r, rule, param, scalar_node_max(L, top, c[0], c[1], c[2]))) {
+            k = jump_box(r, k, first, last);
+            continue;
         }
+        /* Draw the brick's positions: up to its exit, at least one. */
+        float t_exit = box_exit(r, first, last);
+        float x = (t_exit - r->g->t0) * r->inv_base;
+        long kc = !(x < (float)k_end) ? k_end : (x <= 0.0f ? 0 : -(long)mip3d_floor_int(-x));
+        *k_io = k;
+        *run_end = kc > k ? kc : k + 1;
+        return true;
     }
     *k_io = k;
     return false;
 }
 
-static float draw(const fast_ray_t *r, const float q[3], const int fl[3])
+/* Material of the sample at position k: the reference's float expressions. */
+static inline float sample_at(const fast_ray_t *r, long k)
 {
+    float q[3];
+    int fl[3], c[3];
+    position_cell(r, k, q, fl, c);
     return blend_material(&r->f->window, scalar_trilerp(r->L, q, fl));
 }
 
@@ -135,69 +200,97 @@ static void trace_mida(const fast_ray_t *r, float rgb[3], raycast_counts_t *coun
 {
     mida_ray_t s;
     mida_ray_init(&s);
-    long k = 0, drawn = 0, all = r->g->positions;
-    float q[3];
-    int fl[3];
-    while (advance(r, SKIP_EMPTY, 0.0f, &k, q, fl)) {
-        float m = draw(r, q, fl);
-        drawn++;
-        if (mida_ray_sample(&s, m, mida_opacity(m, r->g->base), r->f->early_termination)) {
-            all = k + 1;
-            break;
+    long k = 0, run = 0, drawn = 0, all = r->g->positions;
+    bool done = false;
+    while (!done && advance(r, SKIP_EMPTY, 0.0f, &k, &run)) {
+        for (; k < run; k++) {
+            float m = sample_at(r, k);
+            drawn++;
+            if (mida_ray_sample(&s, m, mida_opacity(m, r->g->base), r->f->early_termination)) {
+                all = k + 1;
+                done = true;
+                break;
+            }
         }
-        k++;
     }
     counts->samples += (uint64_t)drawn;
     counts->samples_skipped += (uint64_t)(all - drawn);
     rgb[0] = rgb[1] = rgb[2] = s.colour;
 }
 
-static void trace_mip_demip(const fast_ray_t *r, float rgb[3], raycast_counts_t *counts)
+/* Ray 1 from position 0; returns the positions drawn, *all the positions a
+ * ray without skipping draws. */
+static long ray1(const fast_ray_t *r, mip_ray_t *ray, long *all)
+{
+    long k = 0, run = 0, drawn = 0;
+    *all = r->g->positions;
+    while (advance(r, SKIP_RAY1, ray->m_max, &k, &run))
+        for (; k < run; k++) {
+            drawn++;
+            if (mip_ray_sample(ray, k, sample_at(r, k))) {
+                *all = k + 1;     /* the reference stops here too */
+                return drawn;
+            }
+        }
+    return drawn;
+}
+
+/* Ray 2: the index of its stop; *drawn += positions drawn. */
+static long ray2(const fast_ray_t *r, float threshold, long *drawn)
+{
+    long k = 0, run = 0;
+    while (advance(r, SKIP_RAY2, threshold, &k, &run))
+        for (; k < run; k++) {
+            (*drawn)++;
+            if (demip_ray2_stops(sample_at(r, k), threshold))
+                return k;
+        }
+    return -1;
+}
+
+/* Ray 1 then (DEMIP) ray 2.  Ray 1 first runs with m_max = guess: every
+ * sample above the guess is still drawn, in order, so if one exists the
+ * result (m_max, k_max) is exactly the reference's; if none does, the ray
+ * runs again from m_max = 0.  Returns m_max. */
+static float trace_mip_demip(const fast_ray_t *r, float guess, float rgb[3],
+                             raycast_counts_t *counts)
 {
     mip_ray_t ray;
     mip_ray_init(&ray);
-    long k = 0, drawn = 0, all = r->g->positions;
-    float q[3];
-    int fl[3];
-    while (advance(r, SKIP_RAY1, ray.m_max, &k, q, fl)) {
-        drawn++;
-        if (mip_ray_sample(&ray, k, draw(r, q, fl))) {
-            all = k + 1;          /* the reference stops here too */
-            break;
-        }
-        k++;
+    ray.m_max = guess > 0.0f && guess < 1.0f ? guess : 0.0f;
+    long all, drawn = ray1(r, &ray, &all);
+    if (ray.k_max < 0 && ray.m_max > 0.0f) {
+        counts->samples_retraced += (uint64_t)drawn;
+        counts->samples += (uint64_t)drawn;
+        mip_ray_init(&ray);
+        drawn = ray1(r, &ray, &all);
     }
     if (r->f->mode == BLEND_MIP || ray.k_max < 0) {
         counts->samples += (uint64_t)drawn;
         counts->samples_skipped += (uint64_t)(all - drawn);
         rgb[0] = rgb[1] = rgb[2] = ray.m_max;
-        return;
+        return ray.m_max;
     }
     float threshold = demip_ray2_threshold(ray.m_max, r->f->eps);
-    long j = 0;
-    while (advance(r, SKIP_RAY2, threshold, &j, q, fl)) {
-        drawn++;
-        if (demip_ray2_stops(draw(r, q, fl), threshold))
-            break;
-        j++;
-    }
-    PP5_ASSERT(j <= ray.k_max, "DEMIP ray 2 passed the maximum");
+    long j = ray2(r, threshold, &drawn);
+    PP5_ASSERT(j >= 0 && j <= ray.k_max, "DEMIP ray 2 passed the maximum");
     all += j + 1;
     counts->samples += (uint64_t)drawn;
     counts->samples_skipped += (uint64_t)(all - drawn);
     const blend_geom_t *g = r->g;
     float t_hit = g->t0 + (float)j * g->base;
     demip_colour(r->f, g->o, g->d, g->t0, t_hit, ray.m_max, j < ray.k_max, rgb);
+    return ray.m_max;
 }
 
-void blend_trace_fast(const blend_ctx_t *c, float px, float py, int level2d, float rgb[3],
-                      raycast_counts_t *counts)
+float blend_trace_fast(const blend_ctx_t *c, float px, float py, int level2d, float guess,
+                       float rgb[3], raycast_counts_t *counts)
 {
     blend_geom_t g;
     counts->rays++;
     rgb[0] = rgb[1] = rgb[2] = 0.0f;
     if (!blend_geom_begin(c, px, py, level2d, &g) || g.positions <= 0)
-        return;
+        return 0.0f;
     fast_ray_t r;
     memset(&r, 0, sizeof r);
     r.f = &c->frame;
@@ -210,10 +303,18 @@ void blend_trace_fast(const blend_ctx_t *c, float px, float py, int level2d, flo
     r.dims[0] = r.L->nx;
     r.dims[1] = r.L->ny;
     r.dims[2] = r.L->nz;
-    for (int a = 0; a < 3; a++)
-        r.inv_dv[a] = g.dv[a] != 0.0f ? 1.0f / g.dv[a] : 0.0f;
-    if (c->frame.mode == BLEND_MIDA)
+    r.threshold_value = c->pyr->threshold;
+    for (int a = 0; a < 4; a++) {
+        bool axis = a < 3;
+        if (axis)
+            r.inv_dv[a] = g.dv[a] != 0.0f ? 1.0f / g.dv[a] : 0.0f;
+        r.ov_v[a] = axis ? g.ov[a] : 0.0f;
+        r.dv_v[a] = axis ? g.dv[a] : 0.0f;
+        r.top_v[a] = axis ? r.dims[a] - 1 : 0;
+    }
+    if (c->frame.mode == BLEND_MIDA) {
         trace_mida(&r, rgb, counts);
-    else
-        trace_mip_demip(&r, rgb, counts);
+        return 0.0f;
+    }
+    return trace_mip_demip(&r, guess, rgb, counts);
 }

@@ -75,6 +75,12 @@ typedef struct {
      * termination) minus those drawn, so samples + samples_skipped with the
      * octree on equals samples with it off. */
     uint64_t samples_skipped;
+    /* MIP and DEMIP rays (blend_trace.h) first try a threshold guessed from
+     * their neighbour; when it was too high the ray is traced again and the
+     * first attempt's samples are counted here as well as in `samples`, so
+     * samples - samples_retraced + samples_skipped equals the samples of a
+     * ray without skipping.  Always 0 for compositing. */
+    uint64_t samples_retraced;
 } raycast_counts_t;
 
 #define RAYCAST_LUT_LEVELS 8

@@ -355,6 +355,7 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         stats->rays += job->counts[t].c.rays;
         stats->samples += job->counts[t].c.samples;
         stats->samples_skipped += job->counts[t].c.samples_skipped;
+        stats->samples_retraced += job->counts[t].c.samples_retraced;
     }
     free(job);
     stats->ms_levels = t2 - t1;

@@ -51,6 +51,7 @@ const char *render_mode_name(render_mode_t m);
 
 typedef struct {
     uint64_t rays, samples, samples_skipped;
+    uint64_t samples_retraced;    /* MIP/DEMIP only: see raycast_counts_t */
     double ms_levels, ms_cast, ms_reconstruct, ms_total;
     int frame_index;              /* 0 for the first frame of a view */
     bool full_resolution_everywhere; /* every pixel at 2D level 0 */

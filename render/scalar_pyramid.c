@@ -81,10 +81,50 @@ static void node_slice(void *ctx, int z, int thread)
         }
 }
 
+/* Distance map of threshold j (= item) at level job->level: two raster
+ * passes with the 13 earlier / 13 later neighbours give the exact
+ * chessboard distance (each pass propagates distance + 1 along every
+ * direction of its half of the 26-neighbourhood). */
+static void distance_map(void *ctx, int j, int thread)
+{
+    (void)thread;
+    const pyramid_job_t *job = ctx;
+    scalar_level_t *L = &job->p->level[job->level];
+    const int s = SCALAR_BRICK_SHIFT, bx = L->hx[s], by = L->hy[s], bz = L->hz[s];
+    const float *bound = L->node_max[s];
+    const float thr = job->p->threshold[j];
+    uint8_t *d = L->brick_dist + (size_t)j * bx * by * bz;
+    for (size_t i = 0; i < (size_t)bx * by * bz; i++)
+        d[i] = bound[i] > thr ? 0 : 255;
+    for (int pass = 0; pass < 2; pass++) {
+        int dir = pass == 0 ? 1 : -1;
+        for (int zi = 0; zi < bz; zi++)
+            for (int yi = 0; yi < by; yi++)
+                for (int xi = 0; xi < bx; xi++) {
+                    int z = pass == 0 ? zi : bz - 1 - zi, y = pass == 0 ? yi : by - 1 - yi;
+                    int x = pass == 0 ? xi : bx - 1 - xi;
+                    uint8_t *here = d + ((size_t)z * by + y) * bx + x;
+                    int best = *here;
+                    /* Neighbours visited earlier in this pass: offset o with
+                     * (dz, dy, dx) lexicographically before 0 along dir. */
+                    for (int o = 0; o < 13; o++) {
+                        int dz = o / 9 - 1, dy = (o / 3) % 3 - 1, dx = o % 3 - 1;
+                        int nz = z + dir * dz, ny = y + dir * dy, nx = x + dir * dx;
+                        if (nx < 0 || ny < 0 || nz < 0 || nx >= bx || ny >= by || nz >= bz)
+                            continue;
+                        int v = d[((size_t)nz * by + ny) * bx + nx] + 1;
+                        best = v < best ? v : best;
+                    }
+                    *here = (uint8_t)(best > 255 ? 255 : best);
+                }
+    }
+}
+
 void scalar_pyramid_free(scalar_pyramid_t *p)
 {
     for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
         free(p->level[n].value);
+        free(p->level[n].brick_dist);
         for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
             free(p->level[n].node_max[h]);
     }
@@ -144,6 +184,15 @@ static pp5_status_t build_levels(scalar_pyramid_t *p, const volume_t *v, int thr
             job.height = h;
             st = parallel_for(threads, p->level[n].hz[h], node_slice, &job);
         }
+        scalar_level_t *L = &p->level[n];
+        if (st == PP5_OK && L->heights > SCALAR_BRICK_SHIFT) {
+            const int b = SCALAR_BRICK_SHIFT;
+            L->brick_dist = malloc((size_t)SCALAR_THRESHOLDS * L->hx[b] * L->hy[b] * L->hz[b]);
+            if (!L->brick_dist)
+                return pp5_fail(PP5_E_NOMEM, "scalar pyramid: cannot allocate distance maps");
+            p->bytes += (size_t)SCALAR_THRESHOLDS * L->hx[b] * L->hy[b] * L->hz[b];
+            st = parallel_for(threads, SCALAR_THRESHOLDS, distance_map, &job);
+        }
         if (nx == 1 && ny == 1 && nz == 1)
             break;
         nx = (nx + 1) / 2, ny = (ny + 1) / 2, nz = (nz + 1) / 2;
@@ -163,6 +212,9 @@ pp5_status_t scalar_pyramid_build(scalar_pyramid_t *p, const volume_t *v,
     mip3d_voxel_spacing(v, p->spacing, p->inv_spacing);
     p->min_value = v->min_value;
     p->max_value = v->max_value;
+    for (int j = 0; j < SCALAR_THRESHOLDS; j++)
+        p->threshold[j] = v->min_value + (v->max_value - v->min_value) * (float)(j + 1) /
+                                             (float)(SCALAR_THRESHOLDS + 1);
     pp5_status_t st = build_levels(p, v, threads);
     if (st != PP5_OK)
         scalar_pyramid_free(p);

@@ -22,15 +22,26 @@
  * cannot change the ray (blend_ray.h: below the running maximum for MIP ray
  * 1, below the threshold for ray 2, material 0 for MIDA): skipping is exact.
  * With the max kind the levels themselves are an octree of maxima; the node
- * bounds are the same idea over trilinear footprints, per level. */
+ * bounds are the same idea over trilinear footprints, per level.
+ *
+ * Aligned nodes make a ray through mixed regions take many small jumps, so
+ * each level also keeps, for SCALAR_THRESHOLDS value levels, the chessboard
+ * distance from every 4x4x4-cell brick to the nearest brick whose bound
+ * exceeds the level (proximity clouds, Cohen & Sheffer 1994, one per
+ * threshold): a ray whose rule can skip everything up to threshold j may
+ * pass the whole cube of bricks within that distance, aligned or not. */
 #ifndef PP5_SCALAR_PYRAMID_H
 #define PP5_SCALAR_PYRAMID_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include "blend.h"
 #include "mip3d.h"
 #include "octree.h"
 #include "volume.h"
+
+#define SCALAR_BRICK_SHIFT 2                /* bricks of 4x4x4 cells: node height 2 */
+#define SCALAR_THRESHOLDS 16
 
 typedef struct {
     int nx, ny, nz;
@@ -38,6 +49,11 @@ typedef struct {
     int heights;                           /* node heights 0 .. heights-1 */
     int hx[OCTREE_MAX_HEIGHT], hy[OCTREE_MAX_HEIGHT], hz[OCTREE_MAX_HEIGHT];
     float *node_max[OCTREE_MAX_HEIGHT];    /* [0]: per cell (nx*ny*nz) */
+    /* Per threshold j, per brick (node of height SCALAR_BRICK_SHIFT): the
+     * chessboard distance in bricks to the nearest brick whose bound
+     * exceeds threshold[j] (0: this one does; 255: none within 255).  NULL
+     * when the level has no bricks of that height. */
+    uint8_t *brick_dist;                   /* [j][bz][by][bx] */
 } scalar_level_t;
 
 typedef struct {
@@ -45,6 +61,9 @@ typedef struct {
     int levels;
     float spacing[3], inv_spacing[3];      /* as mip3d_t's: the camera's units */
     float min_value, max_value;            /* of the volume */
+    /* Value levels of the brick distance maps: evenly spaced strictly
+     * inside [min_value, max_value]. */
+    float threshold[SCALAR_THRESHOLDS];
     scalar_level_t level[MIP3D_MAX_LEVELS];
     size_t bytes;
 } scalar_pyramid_t;
@@ -99,6 +118,16 @@ static inline float scalar_node_max(const scalar_level_t *L, int h, int cx, int 
 {
     return L->node_max[h][((size_t)(cz >> h) * (size_t)L->hy[h] + (size_t)(cy >> h)) *
                               (size_t)L->hx[h] + (size_t)(cx >> h)];
+}
+
+/* Distance map entry of threshold j for the brick holding cell (cx, cy, cz). */
+static inline int scalar_brick_dist(const scalar_level_t *L, int j, int cx, int cy, int cz)
+{
+    const int s = SCALAR_BRICK_SHIFT;
+    size_t per = (size_t)L->hx[s] * (size_t)L->hy[s] * (size_t)L->hz[s];
+    return L->brick_dist[(size_t)j * per +
+                         ((size_t)(cz >> s) * (size_t)L->hy[s] + (size_t)(cy >> s)) *
+                             (size_t)L->hx[s] + (size_t)(cx >> s)];
 }
 
 /* One sample at level-0 position p and continuous level level3d: trilinear
