@@ -83,7 +83,7 @@ float demip_depth_entry_plus_length(const blend_frame_t *f, const float entry[3]
 }
 
 void demip_colour(const blend_frame_t *f, const float o[3], const float d[3], float t_entry,
-                  float t_hit, float m_max, bool before_max, float rgb[3])
+                  float t_hit, float m_max, bool occluded, float rgb[3])
 {
     float p[3];
     for (int a = 0; a < 3; a++)
@@ -97,8 +97,8 @@ void demip_colour(const blend_frame_t *f, const float o[3], const float d[3], fl
             e[a] = o[a] + t_entry * d[a];
         depth = demip_depth_entry_plus_length(f, e, t_hit - t_entry);
     }
-    float grey = f->reading == DEMIP_READING_A || before_max ? demip_eq1(m_max, depth, f->dw)
-                                                             : m_max;
+    float grey = f->reading == DEMIP_READING_A || occluded ? demip_eq1(m_max, depth, f->dw)
+                                                           : m_max;
     if (f->sw > 0.0f) {
         float dir[3] = {p[0] - f->centre[0], p[1] - f->centre[1], p[2] - f->centre[2]}, sph[3];
         colour_sphere_colour(&f->sphere, dir, sph);
@@ -140,4 +140,13 @@ void blend_ray_from_samples(const blend_frame_t *f, const float *m, long n, floa
         j++;                  /* ends at k_max at the latest: m[k_max] = m_max */
     out->k_stop = j;
     out->samples += j + 1;
+    if (f->reading != DEMIP_READING_B)
+        return;
+    for (long g = j + 1; g < r.k_max; g++) {
+        out->samples++;
+        if (demip_is_gap(m[g], threshold)) {
+            out->occluded = true;
+            break;
+        }
+    }
 }

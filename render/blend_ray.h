@@ -26,10 +26,15 @@
  * Eq. (1): c = m_max (1 - dw) + 2 dw (1 - depth), clamped to [0, 1] (it
  * exceeds 1 for bright, near points).  Reading A (default): everywhere a ray
  * saw something; it matches the paper's figure 5 and its "near lighter, far
- * darker" intent.  Reading B: only where ray 2 stopped before k_max (an
- * occluder of the same material in front of the maximum); elsewhere c =
- * m_max, which is the text's "when the reached point is the same ... the
- * rendering will be the same as with MIP".
+ * darker" intent.  Reading B: only where ray 2 stopped at an occluder of
+ * the same material in front of the maximum; elsewhere c = m_max, which is
+ * the text's "when the reached point is the same (i.e. there are not
+ * previous occlusions), the rendering will be the same as with MIP".  An
+ * occluder is a stop before k_max with a sample below the threshold between
+ * the two: with eps > 0 ray 2 also stops before k_max on the rising edge of
+ * the maximum's own structure (trilinear samples climb to the plateau), and
+ * "stopped before the maximum" alone would then change every such pixel of
+ * an image without any occluder.
  *
  * Depth (§3.2).  Exact: the distance from the eye to ray 2's point (under
  * parallel projection the distance along the view axis), normalised so that
@@ -129,6 +134,12 @@ static inline bool demip_ray2_stops(float m, float threshold)
     return m > 0.0f && m >= threshold;
 }
 
+/* Reading B's gap test for a sample between ray 2's stop and k_max. */
+static inline bool demip_is_gap(float m, float threshold)
+{
+    return !demip_ray2_stops(m, threshold);
+}
+
 /* ---- eq. (1) and eq. (2) ---- */
 
 static inline float demip_eq1(float mip, float depth, float dw)
@@ -205,16 +216,19 @@ float demip_depth_entry_plus_length(const blend_frame_t *f, const float entry[3]
 
 /* Final DEMIP colour of a ray o + t d (object space, d unit) that entered
  * the box at t_entry, whose ray 1 found m_max > 0 and whose ray 2 stopped
- * at t_hit, `before_max` when that was before k_max. */
+ * at t_hit, `occluded` when that was at an occluder (reading B's test). */
 void demip_colour(const blend_frame_t *f, const float o[3], const float d[3], float t_entry,
-                  float t_hit, float m_max, bool before_max, float rgb[3]);
+                  float t_hit, float m_max, bool occluded, float rgb[3]);
 
 /* Everything one parallel ray does, from its sample materials m[0..n-1]
  * (positions t_k = t_entry + k * spacing): the reference a firmware
- * restatement is compared against.  The tracers give the same numbers. */
+ * restatement is compared against.  The tracers give the same numbers.
+ * Under reading B the samples after k_stop are examined up to the first gap
+ * (or k_max): that is the cost of the occluder test. */
 typedef struct {
     float m_max;
     long k_max, k_stop;       /* -1: none */
+    bool occluded;            /* reading B: a gap between k_stop and k_max */
     float mida_colour, mida_alpha;
     long samples;             /* drawn without skipping (both rays for DEMIP; early stops kept) */
 } blend_ray_result_t;

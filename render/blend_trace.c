@@ -143,7 +143,15 @@ void blend_trace_reference_info(const blend_ctx_t *c, float px, float py, int le
     PP5_ASSERT(walk_valid(g, &w) && w.k <= r.k_max, "DEMIP ray 2 passed the maximum");
     info->k_stop = w.k;
     info->t_hit = w.t;
-    demip_colour(f, g->o, g->d, g->t0, w.t, r.m_max, w.k < r.k_max, info->rgb);
+    if (f->reading == DEMIP_READING_B)
+        for (walk_next(g, &w); w.k < r.k_max; walk_next(g, &w)) {
+            info->samples++;
+            if (demip_is_gap(walk_material(c, g, &w, &sp), threshold)) {
+                info->occluded = true;
+                break;
+            }
+        }
+    demip_colour(f, g->o, g->d, g->t0, info->t_hit, r.m_max, info->occluded, info->rgb);
 }
 
 void blend_trace_reference(const blend_ctx_t *c, float px, float py, int level2d, float rgb[3],

@@ -61,6 +61,7 @@ typedef struct {
     blend_geom_t geom;
     float m_max;
     long k_max, k_stop;
+    bool occluded;                 /* reading B's occluder test */
     float t_hit;                   /* ray 2's sample (DEMIP) */
     float rgb[3];
     uint64_t samples;

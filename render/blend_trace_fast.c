@@ -275,11 +275,21 @@ static float trace_mip_demip(const fast_ray_t *r, float guess, float rgb[3],
     long j = ray2(r, threshold, &drawn);
     PP5_ASSERT(j >= 0 && j <= ray.k_max, "DEMIP ray 2 passed the maximum");
     all += j + 1;
+    bool occluded = false;
+    if (r->f->reading == DEMIP_READING_B)
+        for (long k = j + 1; k < ray.k_max; k++) {
+            drawn++;
+            all++;
+            if (demip_is_gap(sample_at(r, k), threshold)) {
+                occluded = true;
+                break;
+            }
+        }
     counts->samples += (uint64_t)drawn;
     counts->samples_skipped += (uint64_t)(all - drawn);
     const blend_geom_t *g = r->g;
     float t_hit = g->t0 + (float)j * g->base;
-    demip_colour(r->f, g->o, g->d, g->t0, t_hit, ray.m_max, j < ray.k_max, rgb);
+    demip_colour(r->f, g->o, g->d, g->t0, t_hit, ray.m_max, occluded, rgb);
     return ray.m_max;
 }
 
