@@ -184,12 +184,15 @@ void blend_trace_batch(const blend_ctx_t *c, int count, const float *px, const f
                        int level2d, float (*rgb)[3], raycast_counts_t *counts)
 {
     bool fast = c->skipping && c->camera->projection == PROJECTION_PARALLEL;
-    float guess = 0.0f;
+    /* DEMIP guesses below its neighbour's ray-2 threshold, so that ray 2
+     * can be read from ray 1's records (blend_trace_fast.c). */
+    float guess = 0.0f, eps = c->frame.mode == BLEND_DEMIP ? c->frame.eps : 0.0f;
     for (int i = 0; i < count; i++) {
-        if (fast)
-            guess = BLEND_GUESS_FRACTION *
-                    blend_trace_fast(c, px[i], py[i], level2d, guess, rgb[i], counts);
-        else
+        if (fast) {
+            float m = blend_trace_fast(c, px[i], py[i], level2d, guess, rgb[i], counts);
+            guess = BLEND_GUESS_FRACTION * (m - eps);
+        } else {
             blend_trace_reference(c, px[i], py[i], level2d, rgb[i], counts);
+        }
     }
 }

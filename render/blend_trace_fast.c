@@ -218,21 +218,56 @@ static void trace_mida(const fast_ray_t *r, float rgb[3], raycast_counts_t *coun
     rgb[0] = rgb[1] = rgb[2] = s.colour;
 }
 
+/* Ray 1's running-maximum records (samples that raised m_max), the last
+ * BLEND_RECORDS of them: what DEMIP's ray 2 is read from (trace_mip_demip). */
+#define BLEND_RECORDS 32
+typedef struct {
+    long k[BLEND_RECORDS];
+    float m[BLEND_RECORDS];
+    int count;                    /* records made (may exceed BLEND_RECORDS) */
+} records_t;
+
 /* Ray 1 from position 0; returns the positions drawn, *all the positions a
  * ray without skipping draws. */
-static long ray1(const fast_ray_t *r, mip_ray_t *ray, long *all)
+static long ray1(const fast_ray_t *r, mip_ray_t *ray, long *all, records_t *rec)
 {
     long k = 0, run = 0, drawn = 0;
     *all = r->g->positions;
+    rec->count = 0;
     while (advance(r, SKIP_RAY1, ray->m_max, &k, &run))
         for (; k < run; k++) {
             drawn++;
-            if (mip_ray_sample(ray, k, sample_at(r, k))) {
+            float before = ray->m_max;
+            bool done = mip_ray_sample(ray, k, sample_at(r, k));
+            if (ray->m_max > before) {
+                rec->k[rec->count % BLEND_RECORDS] = k;
+                rec->m[rec->count % BLEND_RECORDS] = ray->m_max;
+                rec->count++;
+            }
+            if (done) {
                 *all = k + 1;     /* the reference stops here too */
                 return drawn;
             }
         }
     return drawn;
+}
+
+/* Ray 2's stop from ray 1's records, or -1 when they cannot tell.  The first
+ * sample with m >= threshold (> 0) is a record of ray 1 whenever threshold
+ * exceeds ray 1's starting maximum g (or g = 0): every sample before it is
+ * below threshold, so the running maximum there is below it too, and the
+ * sample raises it.  Records rise, so it is the first record that stops
+ * ray 2, provided the oldest record kept does not already stop it. */
+static long stop_from_records(const records_t *rec, float g, float threshold)
+{
+    if (!(g == 0.0f || threshold > g) || rec->count == 0)
+        return -1;
+    int n = rec->count < BLEND_RECORDS ? rec->count : BLEND_RECORDS;
+    int oldest = rec->count - n;
+    for (int i = oldest; i < rec->count; i++)
+        if (demip_ray2_stops(rec->m[i % BLEND_RECORDS], threshold))
+            return i == oldest && rec->count > BLEND_RECORDS ? -1 : rec->k[i % BLEND_RECORDS];
+    return -1;
 }
 
 /* Ray 2: the index of its stop; *drawn += positions drawn. */
@@ -251,19 +286,24 @@ static long ray2(const fast_ray_t *r, float threshold, long *drawn)
 /* Ray 1 then (DEMIP) ray 2.  Ray 1 first runs with m_max = guess: every
  * sample above the guess is still drawn, in order, so if one exists the
  * result (m_max, k_max) is exactly the reference's; if none does, the ray
- * runs again from m_max = 0.  Returns m_max. */
+ * runs again from m_max = 0.  Ray 2's stop is read from ray 1's records
+ * when they can tell (stop_from_records) and traced otherwise; either way it
+ * is the reference's.  Returns m_max. */
 static float trace_mip_demip(const fast_ray_t *r, float guess, float rgb[3],
                              raycast_counts_t *counts)
 {
     mip_ray_t ray;
+    records_t rec;
     mip_ray_init(&ray);
-    ray.m_max = guess > 0.0f && guess < 1.0f ? guess : 0.0f;
-    long all, drawn = ray1(r, &ray, &all);
-    if (ray.k_max < 0 && ray.m_max > 0.0f) {
+    float g = guess > 0.0f && guess < 1.0f ? guess : 0.0f;
+    ray.m_max = g;
+    long all, drawn = ray1(r, &ray, &all, &rec);
+    if (ray.k_max < 0 && g > 0.0f) {
         counts->samples_retraced += (uint64_t)drawn;
         counts->samples += (uint64_t)drawn;
         mip_ray_init(&ray);
-        drawn = ray1(r, &ray, &all);
+        g = 0.0f;
+        drawn = ray1(r, &ray, &all, &rec);
     }
     if (r->f->mode == BLEND_MIP || ray.k_max < 0) {
         counts->samples += (uint64_t)drawn;
@@ -272,7 +312,9 @@ static float trace_mip_demip(const fast_ray_t *r, float guess, float rgb[3],
         return ray.m_max;
     }
     float threshold = demip_ray2_threshold(ray.m_max, r->f->eps);
-    long j = ray2(r, threshold, &drawn);
+    long j = stop_from_records(&rec, g, threshold);
+    if (j < 0)
+        j = ray2(r, threshold, &drawn);
     PP5_ASSERT(j >= 0 && j <= ray.k_max, "DEMIP ray 2 passed the maximum");
     all += j + 1;
     bool occluded = false;
@@ -287,9 +329,9 @@ static float trace_mip_demip(const fast_ray_t *r, float guess, float rgb[3],
         }
     counts->samples += (uint64_t)drawn;
     counts->samples_skipped += (uint64_t)(all - drawn);
-    const blend_geom_t *g = r->g;
-    float t_hit = g->t0 + (float)j * g->base;
-    demip_colour(r->f, g->o, g->d, g->t0, t_hit, ray.m_max, occluded, rgb);
+    const blend_geom_t *gm = r->g;
+    float t_hit = gm->t0 + (float)j * gm->base;
+    demip_colour(r->f, gm->o, gm->d, gm->t0, t_hit, ray.m_max, occluded, rgb);
     return ray.m_max;
 }
 

@@ -79,7 +79,7 @@ static void trace_case(const pyramid_t *r, const trace_case_t *tc, const float *
                  * one that is far too high (the fallback path). */
                 float m = blend_trace_fast(&c, px, py, l, i % 7 == 3 ? 0.999f : guess, a,
                                            &res->fast);
-                guess = BLEND_GUESS_FRACTION * m;
+                guess = BLEND_GUESS_FRACTION * (m - (tc->mode == BLEND_DEMIP ? tc->eps : 0.0f));
                 blend_trace_reference(&c, px, py, l, ref, &res->ref);
                 res->rays++;
                 res->diff += memcmp(a, ref, sizeof a) != 0;
