@@ -76,9 +76,12 @@ void blend_trace_reference(const blend_ctx_t *c, float px, float py, int level2d
 long blend_ray_materials(const blend_ctx_t *c, float px, float py, int level2d, float *m,
                          long max);
 
+/* `count` rays of one 2D level; *guess_io (may be NULL) carries the
+ * threshold guess from the previous batch of the same texel row in and the
+ * last ray's out, so that only a row's first ray starts without one. */
 #define BLEND_BATCH RAYCAST_BATCH
 void blend_trace_batch(const blend_ctx_t *c, int count, const float *px, const float *py,
-                       int level2d, float (*rgb)[3], raycast_counts_t *counts);
+                       int level2d, float (*rgb)[3], float *guess_io, raycast_counts_t *counts);
 
 /* The skipping tracer for one parallel ray (blend_trace_fast.c).  MIP and
  * DEMIP rays start from m_max = guess (0: none) and fall back to a full

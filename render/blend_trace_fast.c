@@ -30,14 +30,13 @@ typedef struct {
     float scale, inv_scale, inv_base;
     float inv_dv[3];
     int dims[3];
-    const float *threshold_value;  /* the pyramid's distance-map levels */
+    float threshold_material[SCALAR_THRESHOLDS];  /* of the distance-map levels */
     v4f ov_v, dv_v;               /* ray origin and direction, lane 3 = 0 */
     v4i top_v;                    /* dims - 1 (lane 3 = 0) */
 } fast_ray_t;
 
-static inline bool skippable(const fast_ray_t *r, skip_rule_t rule, float param, float bound)
+static inline bool skippable_material(skip_rule_t rule, float param, float m)
 {
-    float m = blend_material(&r->f->window, bound);
     if (rule == SKIP_RAY1) {
         mip_ray_t state = {param, 0};
         return mip_ray_can_skip(&state, m);
@@ -45,6 +44,11 @@ static inline bool skippable(const fast_ray_t *r, skip_rule_t rule, float param,
     if (rule == SKIP_RAY2)
         return !demip_ray2_stops(m, param);
     return m <= 0.0f;
+}
+
+static inline bool skippable(const fast_ray_t *r, skip_rule_t rule, float param, float bound)
+{
+    return skippable_material(rule, param, blend_material(&r->f->window, bound));
 }
 
 /* Level coordinates, floors and clamped cell of position k, three axes side
@@ -107,9 +111,10 @@ static inline bool in_box(const fast_ray_t *r, long k, const int first[3], const
 }
 
 /* Position k lies in the box [first, last) whose positions may all be
- * skipped: returns the first position beyond it.  The estimate from the
- * exit parameter is corrected with the exact cell test on both sides of
- * it; by monotonicity (see the top), positions k..kc-1 are then all inside. */
+ * skipped: returns the first position beyond it (or one inside it, which is
+ * merely visited again).  The estimate from the exit parameter is checked
+ * with the exact cell test of its last position; by monotonicity (see the
+ * top), positions k..kc-1 are then all inside. */
 static inline long jump_box(const fast_ray_t *r, long k, const int first[3], const int last[3])
 {
     const long k_end = r->g->positions;
@@ -120,20 +125,17 @@ static inline long jump_box(const fast_ray_t *r, long k, const int first[3], con
     long kc = !(x < (float)k_end) ? k_end : (x <= 0.0f ? 0 : -(long)mip3d_floor_int(-x));
     if (kc <= k)
         kc = k + 1;
-    for (int i = 0; i < 2 && kc > k + 1 && !in_box(r, kc - 1, first, last); i++)
-        kc--;
+    /* Rounding may put position kc - 1 just outside: then try one fewer. */
     if (kc > k + 1 && !in_box(r, kc - 1, first, last))
-        return k + 1;
-    for (int i = 0; i < 2 && kc < k_end && in_box(r, kc, first, last); i++)
-        kc++;
-    return kc;
+        kc--;
+    return kc > k + 1 && !in_box(r, kc - 1, first, last) ? k + 1 : kc;
 }
 
 /* The highest threshold level whose materials `rule` may skip (-1: none). */
 static inline int threshold_level(const fast_ray_t *r, skip_rule_t rule, float param)
 {
     int j = SCALAR_THRESHOLDS - 1;
-    while (j >= 0 && !skippable(r, rule, param, r->threshold_value[j]))
+    while (j >= 0 && !skippable_material(rule, param, r->threshold_material[j]))
         j--;
     return j;
 }
@@ -355,7 +357,8 @@ float blend_trace_fast(const blend_ctx_t *c, float px, float py, int level2d, fl
     r.dims[0] = r.L->nx;
     r.dims[1] = r.L->ny;
     r.dims[2] = r.L->nz;
-    r.threshold_value = c->pyr->threshold;
+    for (int j = 0; j < SCALAR_THRESHOLDS; j++)
+        r.threshold_material[j] = blend_material(&c->frame.window, c->pyr->threshold[j]);
     for (int a = 0; a < 4; a++) {
         bool axis = a < 3;
         if (axis)

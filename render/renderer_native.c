@@ -195,6 +195,7 @@ static void job_cast_row(void *ctx, int item, int thread)
     size_t base = (size_t)j * m->w[l];
     /* Gather the row's uncast, needed texels and trace them in batches. */
     float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    float guess = 0.0f;           /* MIP/DEMIP threshold guess along the row */
     int idx[RAYCAST_BATCH], n = 0;
     for (int i = 0; i <= m->w[l]; i++) {
         if (i < m->w[l]) {
@@ -207,7 +208,8 @@ static void job_cast_row(void *ctx, int item, int thread)
             if (job->s->blend.mode == BLEND_COMPOSITE)
                 raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
             else
-                blend_trace_batch(&job->blend, n, px, py, l, rgb, &job->counts[thread].c);
+                blend_trace_batch(&job->blend, n, px, py, l, rgb, &guess,
+                                  &job->counts[thread].c);
             for (int b = 0; b < n; b++) {
                 float *dst = m->rgb[l] + (base + (size_t)idx[b]) * 3;
                 dst[0] = rgb[b][0];
