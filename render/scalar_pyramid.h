@@ -84,13 +84,11 @@ static inline float scalar_trilerp(const scalar_level_t *L, const float q[3], co
 {
     int x0 = fl[0], y0 = fl[1], z0 = fl[2];
     float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
+    int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
+    int z1 = mip3d_clamp_index(z0 + 1, L->nz);
+    x0 = mip3d_clamp_index(x0, L->nx);
+    y0 = mip3d_clamp_index(y0, L->ny);
+    z0 = mip3d_clamp_index(z0, L->nz);
     float c000 = scalar_at(L, x0, y0, z0), c100 = scalar_at(L, x1, y0, z0);
     float c010 = scalar_at(L, x0, y1, z0), c110 = scalar_at(L, x1, y1, z0);
     float c001 = scalar_at(L, x0, y0, z1), c101 = scalar_at(L, x1, y0, z1);

@@ -47,16 +47,14 @@ echo "   peers on CThead ${side}x${side}, shaded composite, value ramp 350..640 
 [ -n "$vp_ms" ] && echo "     VolPack shear-warp (1 thread, classified volume): ${vp_ms} ms/frame" ||
     echo "     VolPack: did not run"
 echo "     pp5 native full resolution: ${ours_full} ms/frame; gaze-directed: ${ours_gaze} ms/frame"
-if [ -n "$vtk_ms" ]; then
-    awk -v v="$vtk_ms" -v f="$ours_full" 'BEGIN {
-        printf "     full resolution vs VTK: %.2fx %s (goal: >= 2x faster)\n",
-               v / f, (v / f >= 1 ? "faster" : "(slower: ratio < 1)") }'
-fi
-if [ -n "$vp_ms" ]; then
-    awk -v v="$vp_ms" -v g="$ours_gaze" 'BEGIN {
-        printf "     gaze-directed vs VolPack: %.2fx %s (goal: no slower)\n",
-               v / g, (v / g >= 1 ? "faster" : "(slower: ratio < 1)") }'
-fi
+# ratio_line LABEL PEER_MS OURS_MS GOAL: "LABEL: 2.00x faster (goal: GOAL)".
+ratio_line() {
+    awk -v l="$1" -v v="$2" -v f="$3" -v g="$4" 'BEGIN {
+        printf "     %s: %.2fx %s (goal: %s)\n", l, v / f,
+               (v / f >= 1 ? "faster" : "(slower: ratio < 1)"), g }'
+}
+[ -n "$vtk_ms" ] && ratio_line "full resolution vs VTK" "$vtk_ms" "$ours_full" ">= 2x faster"
+[ -n "$vp_ms" ] && ratio_line "gaze-directed vs VolPack" "$vp_ms" "$ours_gaze" "no slower"
 if [ -n "$ours_mip" ]; then
     mip_ms=$(xvfb-run -a "$py" "$here/vtk_peer.py" "$tmp/cthead.raw" 256 256 113 "$side" 9 2 \
              --mip "$win_lo,$win_hi" | awk '/vtk_ms_per_frame/ {print $2}')
@@ -64,10 +62,7 @@ if [ -n "$ours_mip" ]; then
     [ -n "$mip_ms" ] && echo "     VTK vtkFixedPointVolumeRayCastMapper MIP (2 threads, Xvfb): ${mip_ms} ms/frame" ||
         echo "     VTK MIP: did not run"
     echo "     pp5 native MIP full resolution: ${ours_mip} ms/frame"
-    if [ -n "$mip_ms" ]; then
-        awk -v v="$mip_ms" -v f="$ours_mip" 'BEGIN {
-            printf "     full-resolution MIP vs VTK MIP: %.2fx %s (goal: >= 5x faster)\n",
-                   v / f, (v / f >= 1 ? "faster" : "(slower: ratio < 1)") }'
-    fi
+    [ -n "$mip_ms" ] && ratio_line "full-resolution MIP vs VTK MIP" "$mip_ms" "$ours_mip" \
+        ">= 5x faster"
 fi
 exit 0
