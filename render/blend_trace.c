@@ -183,19 +183,16 @@ long blend_ray_materials(const blend_ctx_t *c, float px, float py, int level2d, 
 void blend_trace_batch(const blend_ctx_t *c, int count, const float *px, const float *py,
                        int level2d, float (*rgb)[3], float *guess_io, raycast_counts_t *counts)
 {
-    bool fast = c->skipping && c->camera->projection == PROJECTION_PARALLEL;
-    /* DEMIP guesses below its neighbour's ray-2 threshold, so that ray 2
-     * can be read from ray 1's records (blend_trace_fast.c). */
-    float guess = guess_io ? *guess_io : 0.0f;
-    float eps = c->frame.mode == BLEND_DEMIP ? c->frame.eps : 0.0f;
-    for (int i = 0; i < count; i++) {
-        if (fast) {
-            float m = blend_trace_fast(c, px[i], py[i], level2d, guess, rgb[i], counts);
-            guess = BLEND_GUESS_FRACTION * (m - eps);
-        } else {
-            blend_trace_reference(c, px[i], py[i], level2d, rgb[i], counts);
-        }
+    if (c->skipping && c->camera->projection == PROJECTION_PARALLEL) {
+        /* DEMIP guesses below its neighbour's ray-2 threshold, so that ray 2
+         * can be read from ray 1's records (blend_trace_fast.c). */
+        float eps = c->frame.mode == BLEND_DEMIP ? c->frame.eps : 0.0f;
+        float m = blend_trace_fast_batch(c, count, px, py, level2d, guess_io ? *guess_io : 0.0f,
+                                         rgb, counts);
+        if (guess_io)
+            *guess_io = BLEND_GUESS_FRACTION * (m - eps);
+        return;
     }
-    if (guess_io)
-        *guess_io = guess;
+    for (int i = 0; i < count; i++)
+        blend_trace_reference(c, px[i], py[i], level2d, rgb[i], counts);
 }

@@ -17,11 +17,12 @@
  *     can change it; bit-identical colours to the reference, and samples +
  *     samples_skipped equal the reference's samples (tested).  Otherwise it
  *     runs the reference.
- * In a batch, each MIP/DEMIP ray after the first guesses its threshold from
- * the previous ray's maximum (BLEND_GUESS_FRACTION of it): neighbouring
- * texels see nearly the same maximum, and a threshold known from the start
- * lets a ray pass everything dimmer, in front of the maximum too.  The
- * order of rays in a batch is fixed, so counts stay deterministic.
+ * The rays of a batch guess their MIP/DEMIP threshold from the previous
+ * batch of the same texel row (BLEND_GUESS_FRACTION of its last ray's
+ * maximum): neighbouring texels see nearly the same maximum, and a
+ * threshold known from the start lets a ray pass everything dimmer, in
+ * front of the maximum too.  Batches of a row are traced in a fixed order,
+ * so counts stay deterministic.
  * DEMIP counts one ray per texel; its samples include both passes. */
 #ifndef PP5_BLEND_TRACE_H
 #define PP5_BLEND_TRACE_H
@@ -83,10 +84,14 @@ long blend_ray_materials(const blend_ctx_t *c, float px, float py, int level2d, 
 void blend_trace_batch(const blend_ctx_t *c, int count, const float *px, const float *py,
                        int level2d, float (*rgb)[3], float *guess_io, raycast_counts_t *counts);
 
-/* The skipping tracer for one parallel ray (blend_trace_fast.c).  MIP and
- * DEMIP rays start from m_max = guess (0: none) and fall back to a full
- * trace when nothing exceeds it (counted in samples_retraced); the result
- * does not depend on the guess.  Returns the ray's m_max (0 for MIDA). */
+/* The skipping tracer (blend_trace_fast.c, blend_trace_packet.c) for up to
+ * BLEND_BATCH parallel rays of one level.  MIP and DEMIP rays start from
+ * m_max = guess (0: none) and fall back to a full trace when nothing exceeds
+ * it (counted in samples_retraced); the result does not depend on the
+ * guess.  Returns the last ray's m_max (0 for MIDA). */
+float blend_trace_fast_batch(const blend_ctx_t *c, int count, const float *px, const float *py,
+                             int level2d, float guess, float (*rgb)[3], raycast_counts_t *counts);
+/* The same for one ray. */
 float blend_trace_fast(const blend_ctx_t *c, float px, float py, int level2d, float guess,
                        float rgb[3], raycast_counts_t *counts);
 /* The fraction of a neighbour's maximum a batch's next ray guesses. */
