@@ -357,3 +357,31 @@ TEST(blend_cli_rejects_bad_values_naming_the_option)
         CHECK(stat(png, &sb) != 0);
     }
 }
+
+TEST(blend_reproduce_demip_prints_the_table_and_writes_the_images)
+{
+    const char *dir = pp5_test_outdir();
+    char args[512], out[512];
+    snprintf(out, sizeof out, "%s/stdout.txt", dir);
+    snprintf(args, sizeof args, "reproduce demip --size 48 --repeats 1 --datasets sphere-shell "
+             "--out-dir %s", dir);
+    CHECK_EQ(pp5_test_run_cli(args, out, NULL), 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text);
+    const char *expect[] = {"Table 1", "not public", "DEMIP/MIP", "DVR/DEMIP", "MIDA/DEMIP",
+                            "1.12-1.40 (1.21)", "[pending]", "eps 0.40", "box"};
+    for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++)
+        CHECK_MSG(strstr(text, expect[i]) != NULL, "no '%s' in the output", expect[i]);
+    free(text);
+    const char *images[] = {"demip_sphere-shell.png", "demip_sphere-shell_eps.png",
+                            "demip_sphere-shell_pyramid.png"};
+    for (size_t i = 0; i < 3; i++) {
+        char path[700];
+        snprintf(path, sizeof path, "%s/%s", dir, images[i]);
+        image8_t img;
+        CHECK_MSG(png_read(path, &img, 3) == PP5_OK, "%s unreadable", path);
+        image8_free(&img);
+    }
+    snprintf(args, sizeof args, "reproduce demip --size 5 --out-dir %s", dir);
+    CHECK_EQ(pp5_test_run_cli(args, NULL, NULL), 2);
+}
