@@ -4,6 +4,7 @@
 #ifndef PP5_BLEND_FAST_H
 #define PP5_BLEND_FAST_H
 
+#include <math.h>
 #include <stdbool.h>
 #include "blend_trace.h"
 
@@ -74,8 +75,26 @@ static inline float fast_ray_param(const fast_ray_t *r)
 
 /* Level cell (clamped) of the point ov + t dv, with level coordinates and floors. */
 v4i fast_cell(const fast_level_t *lv, v4f ov, float t, v4f *qv, v4i *flv);
-/* Where ov + t dv leaves the box of cells [first, last) (INFINITY: never). */
-float fast_box_exit(const fast_level_t *lv, v4f ov, const int first[3], const int last[3]);
+/* Where ov + t dv leaves the box of cells [first, last) (INFINITY: never;
+ * faces on the grid's edge hold the clamped cells beyond). */
+static inline float fast_box_exit(const fast_level_t *lv, v4f ov, const int first[3],
+                                  const int last[3])
+{
+    float t_exit = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        int cell;
+        if (lv->dv[a] > 0.0f && last[a] < lv->dims[a])
+            cell = last[a];
+        else if (lv->dv[a] < 0.0f && first[a] > 0)
+            cell = first[a];
+        else
+            continue;
+        float bound = ((float)cell + 0.5f) * lv->scale - 0.5f;
+        float te = (bound - ov[a]) * lv->inv_dv[a];
+        t_exit = te < t_exit ? te : t_exit;
+    }
+    return t_exit;
+}
 /* The highest distance-map level `rule` may skip at `param` (-1: none). */
 int fast_threshold_level(const fast_level_t *lv, skip_rule_t rule, float param);
 /* The cube of bricks within d - 1 of the brick holding cell c, as cells. */

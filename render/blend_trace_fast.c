@@ -82,24 +82,6 @@ static inline v4i position_cell(const fast_ray_t *r, long k, v4f *qv, v4i *flv)
     return fast_cell(r->lv, r->ov_v, r->g.t0 + (float)k * r->lv->base, qv, flv);
 }
 
-float fast_box_exit(const fast_level_t *lv, v4f ov, const int first[3], const int last[3])
-{
-    float t_exit = INFINITY;
-    for (int a = 0; a < 3; a++) {
-        int cell;
-        if (lv->dv[a] > 0.0f && last[a] < lv->dims[a])
-            cell = last[a];
-        else if (lv->dv[a] < 0.0f && first[a] > 0)
-            cell = first[a];
-        else
-            continue;      /* faces on the grid's edge hold the clamped cells beyond */
-        float bound = ((float)cell + 0.5f) * lv->scale - 0.5f;
-        float te = (bound - ov[a]) * lv->inv_dv[a];
-        t_exit = te < t_exit ? te : t_exit;
-    }
-    return t_exit;
-}
-
 void fast_brick_cube(const int c[3], int d, int first[3], int last[3])
 {
     const int s = 1 << SCALAR_BRICK_SHIFT;

@@ -22,6 +22,18 @@
 
 #define PACKET_RADIUS 2.9f
 
+/* min and max of numbers known not to be NaN (fminf/fmaxf are library calls
+ * at -O2). */
+static inline float min_f(float a, float b)
+{
+    return b < a ? b : a;
+}
+
+static inline float max_f(float a, float b)
+{
+    return b > a ? b : a;
+}
+
 /* The centre line of the used rays, or false when they are too far apart. */
 static bool packet_centre(const fast_ray_t *rays, const bool *use, int count, v4f *centre)
 {
@@ -34,8 +46,8 @@ static bool packet_centre(const fast_ray_t *rays, const bool *use, int count, v4
         used++;
         lv = rays[i].lv;
         for (int a = 0; a < 3; a++) {
-            lo[a] = fminf(lo[a], rays[i].g.ov[a]);
-            hi[a] = fmaxf(hi[a], rays[i].g.ov[a]);
+            lo[a] = min_f(lo[a], rays[i].g.ov[a]);
+            hi[a] = max_f(hi[a], rays[i].g.ov[a]);
         }
     }
     if (used < 2)
@@ -91,7 +103,7 @@ static void walk(fast_ray_t *rays, const bool *use, int count)
     for (int i = 0; i < count; i++)
         if (use[i]) {
             lv = rays[i].lv;
-            t_cur = fminf(t_cur, rays[i].g.t0 + (float)rays[i].k * lv->base);
+            t_cur = min_f(t_cur, rays[i].g.t0 + (float)rays[i].k * lv->base);
         }
     const scalar_level_t *L = lv->L;
     for (;;) {
@@ -102,7 +114,7 @@ static void walk(fast_ray_t *rays, const bool *use, int count)
             if (use[i] && !rays[i].done) {
                 live = true;
                 rule = rays[i].rule;
-                param = fminf(param, fast_ray_param(&rays[i]));
+                param = min_f(param, fast_ray_param(&rays[i]));
             }
         if (!live)
             return;
