@@ -170,8 +170,9 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
             "%.1f MB in %.0f ms\n", r.mip.levels, r.mip.stride, r.mip.bytes / 1e6,
             r.ms_build_mip, r.octree.bytes / 1e6, r.ms_build_octree);
     if (s.blend.mode != BLEND_COMPOSITE)
-        fprintf(log, "blend %s: %s value pyramid %.1f MB in %.0f ms\n", blend_mode_name(s.blend.mode),
-                scalar_pyramid_kind_name(s.blend.pyramid), r.scalar.bytes / 1e6, r.ms_build_scalar);
+        fprintf(log, "blend %s: %s value pyramid %.1f MB in %.0f ms\n",
+                blend_mode_name(s.blend.mode), scalar_pyramid_kind_name(s.blend.pyramid),
+                r.scalar.bytes / 1e6, r.ms_build_scalar);
 
     int frames = c->progressive_frames > 0 ? c->progressive_frames : 1;
     s.progressive = c->progressive_frames > 0;

@@ -71,8 +71,9 @@ pp5_status_t native_renderer_build_scalar(native_renderer_t *r, const volume_t *
     pp5_status_t st = scalar_pyramid_build(&r->scalar, v, kind, r->threads);
     if (st != PP5_OK)
         return st;
-    if (r->scalar.level[0].nx != r->mip.level[0].nx || r->scalar.level[0].ny != r->mip.level[0].ny ||
-        r->scalar.level[0].nz != r->mip.level[0].nz) {
+    const scalar_level_t *a = &r->scalar.level[0];
+    const mip3d_level_t *b = &r->mip.level[0];
+    if (a->nx != b->nx || a->ny != b->ny || a->nz != b->nz) {
         scalar_pyramid_free(&r->scalar);
         return pp5_fail(PP5_E_RANGE, "render: the value pyramid's volume is not the renderer's");
     }

@@ -250,9 +250,8 @@ TEST(blend_colour_sphere_maps_front_and_back_to_end_colours)
     colour_sphere_colour(&s, (const float[3]){-1, 0, 0}, rgb);
     CHECK_NEAR(rgb[0], 1.0, 1e-6);
     CHECK_NEAR(rgb[2], 0.0, 1e-6);
-    pp5_status_t st;
     sphere_map_t map;
-    CHECK((st = colour_sphere_map_parse("orange-blue", &map)) == PP5_OK && map == SPHERE_ORANGE_BLUE);
+    CHECK(colour_sphere_map_parse("orange-blue", &map) == PP5_OK && map == SPHERE_ORANGE_BLUE);
     CHECK(colour_sphere_map_parse("purple", &map) == PP5_E_CONFIG);
     CHECK(strstr(pp5_error_text(), "--sphere-map") != NULL);
 }

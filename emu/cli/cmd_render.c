@@ -265,7 +265,8 @@ static int render_main(int argc, char **argv)
         case OPT_FIG5: cli.fig5_png = optarg; break;
         case OPT_THREADS: st = cliopt_long("--threads", optarg, 0, 64, &l);
             cli.settings.threads = (int)l; break;
-        case OPT_BLEND: st = blend_option(longopts[longindex].name, optarg, &cli.settings.blend); break;
+        case OPT_BLEND: st = blend_option(longopts[longindex].name, optarg, &cli.settings.blend);
+            break;
         case OPT_HELP:
         case 'h':
             render_usage();
@@ -280,7 +281,8 @@ static int render_main(int argc, char **argv)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);
     /* --- firmware hook --- */
     if (st == PP5_OK && fw_opts.machine && cli.settings.blend.mode != BLEND_COMPOSITE)
-        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only (firmware MIP/DEMIP/MIDA: issue 11)");
+        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only (firmware "
+                      "MIP/DEMIP/MIDA: issue 11)");
     if (st == PP5_OK && fw_opts.machine)
         return (st = fw_render_cli_run(&cli, &fw_opts, stdout)) == PP5_OK ? 0 : cliopt_report("render", st);
     /* --- end firmware hook --- */

@@ -573,5 +573,5 @@ static int reproduce_demip(const pp5_reproduce_opts_t *o)
     return rc;
 }
 
-PP5_REPRODUCE(demip, "Diaz & Vazquez 2010 Table 1: MIP, DEMIP, MIDA, DVR cost ratios, full and gaze",
+PP5_REPRODUCE(demip, "Diaz & Vazquez 2010 Table 1: MIP, DEMIP, MIDA, DVR cost ratios",
               reproduce_demip)
