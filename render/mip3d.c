@@ -91,6 +91,20 @@ static void mip3d_filter_slice(void *ctx, int z, int thread)
     }
 }
 
+void mip3d_voxel_spacing(const volume_t *v, float spacing[3], float inv_spacing[3])
+{
+    double sp[3], smin = 0.0;
+    for (int a = 0; a < 3; a++) {
+        sp[a] = v->spacing[a] > 0.0 && isfinite(v->spacing[a]) ? v->spacing[a] : 1.0;
+        if (smin == 0.0 || sp[a] < smin)
+            smin = sp[a];
+    }
+    for (int a = 0; a < 3; a++) {
+        spacing[a] = (float)(sp[a] / smin);
+        inv_spacing[a] = (float)(smin / sp[a]);
+    }
+}
+
 void mip3d_free(mip3d_t *m)
 {
     for (int i = 0; i < MIP3D_MAX_LEVELS; i++)
@@ -100,16 +114,7 @@ void mip3d_free(mip3d_t *m)
 
 void mip3d_geometry(mip3d_t *m, const volume_t *v)
 {
-    double sp[3], smin = 0.0;
-    for (int a = 0; a < 3; a++) {
-        sp[a] = v->spacing[a] > 0.0 && isfinite(v->spacing[a]) ? v->spacing[a] : 1.0;
-        if (smin == 0.0 || sp[a] < smin)
-            smin = sp[a];
-    }
-    for (int a = 0; a < 3; a++) {
-        m->spacing[a] = (float)(sp[a] / smin);
-        m->inv_spacing[a] = (float)(smin / sp[a]);
-    }
+    mip3d_voxel_spacing(v, m->spacing, m->inv_spacing);
     int nx = v->nx, ny = v->ny, nz = v->nz;
     m->levels = 0;
     for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {

@@ -59,6 +59,9 @@ void mip3d_free(mip3d_t *m);
  * non-finite spacings count as 1), levels down to 1x1x1, each level's dims.
  * mip3d_build uses it; so does the machine's host, which must agree. */
 void mip3d_geometry(mip3d_t *m, const volume_t *v);
+/* Object-space size of a voxel (smallest axis = 1) and its inverse: the
+ * units every pyramid over the volume shares with the camera. */
+void mip3d_voxel_spacing(const volume_t *v, float spacing[3], float inv_spacing[3]);
 
 /* Level-n coordinate of a level-0 voxel coordinate p: (p + 0.5) / 2^n - 0.5. */
 static inline float mip3d_level_coord(float p, int n)
@@ -75,6 +78,12 @@ static inline int mip3d_floor_int(float x)
     return (float)i > x ? i - 1 : i;
 }
 
+/* Voxel index i clamped to an axis of n voxels (edge voxels repeat). */
+static inline int mip3d_clamp_index(int i, int n)
+{
+    return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
 /* Trilinear interpolation of the `stride` components of level n at level-n
  * coordinates (x, y, z), clamping to the edge voxels. */
 static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, float z,
@@ -83,13 +92,11 @@ static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, floa
     const mip3d_level_t *L = &m->level[n];
     int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
     float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
+    int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
+    int z1 = mip3d_clamp_index(z0 + 1, L->nz);
+    x0 = mip3d_clamp_index(x0, L->nx);
+    y0 = mip3d_clamp_index(y0, L->ny);
+    z0 = mip3d_clamp_index(z0, L->nz);
     const int s = m->stride;
     const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
     const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * s;

@@ -40,22 +40,27 @@ static void rotate(float m[3][3], int axis, float deg)
     memcpy(m, out, sizeof out);
 }
 
-void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height)
+void view_basis(const view_params_t *v, float right[3], float down[3], float forward[3])
 {
-    memset(c, 0, sizeof *c);
-    c->width = width;
-    c->height = height;
-    c->projection = v->projection;
     /* Columns of M are the camera axes; M = Rz * Rx * Ry (Ry acts first). */
     float M[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     rotate(M, 1, v->rot_y_deg);
     rotate(M, 0, v->rot_x_deg);
     rotate(M, 2, v->rot_z_deg);
     for (int a = 0; a < 3; a++) {
-        c->right[a] = M[a][0];
-        c->down[a] = M[a][1];
-        c->forward[a] = M[a][2];
+        right[a] = M[a][0];
+        down[a] = M[a][1];
+        forward[a] = M[a][2];
     }
+}
+
+void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height)
+{
+    memset(c, 0, sizeof *c);
+    c->width = width;
+    c->height = height;
+    c->projection = v->projection;
+    view_basis(v, c->right, c->down, c->forward);
     const mip3d_level_t *L = &m->level[0];
     int dims[3] = {L->nx, L->ny, L->nz};
     float extent = 0.0f, r2 = 0.0f;

@@ -62,6 +62,8 @@ typedef struct {
 } camera_t;
 
 void camera_setup(camera_t *c, const view_params_t *v, const mip3d_t *m, int width, int height);
+/* The camera axes (object-space unit vectors) for the view's angles. */
+void view_basis(const view_params_t *v, float right[3], float down[3], float forward[3]);
 /* Ray through image point (px, py): origin and unit direction in object space. */
 void camera_ray(const camera_t *c, float px, float py, float origin[3], float dir[3]);
 
@@ -73,6 +75,12 @@ typedef struct {
      * termination) minus those drawn, so samples + samples_skipped with the
      * octree on equals samples with it off. */
     uint64_t samples_skipped;
+    /* MIP and DEMIP rays (blend_trace.h) first try a threshold guessed from
+     * their neighbour; when it was too high the ray is traced again and the
+     * first attempt's samples are counted here as well as in `samples`, so
+     * samples - samples_retraced + samples_skipped equals the samples of a
+     * ray without skipping.  Always 0 for compositing. */
+    uint64_t samples_retraced;
 } raycast_counts_t;
 
 #define RAYCAST_LUT_LEVELS 8

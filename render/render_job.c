@@ -67,6 +67,10 @@ pp5_status_t render_job_resolve(render_job_t *job, const scene_t *sc, const rend
         s->gaze_x = 0.5 * (s->width - 1);
         s->gaze_y = 0.5 * (s->height - 1);
     }
+    /* The blend's window and the colour sphere's orientation default to the
+     * dataset's (its front faces the viewer of the dataset's own view). */
+    blend_settings_fill(&s->blend, sc->window_centre, sc->window_width,
+                        (const float[3]){sc->rot_x_deg, sc->rot_y_deg, sc->rot_z_deg});
     s->progressive = ch->progressive_frames > 0;
     job->frames = ch->progressive_frames > 0 ? ch->progressive_frames : 1;
     gaze_model_t check;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "blend_trace.h"
 #include "mip2d_row.h"
 #include "parallel.h"
 
@@ -31,6 +32,7 @@ void render_settings_defaults(render_settings_t *s)
     s->threads = 0;
     s->progressive = false;
     s->progressive_growth = 2.0;
+    blend_settings_defaults(&s->blend);
 }
 
 const char *render_mode_name(render_mode_t m)
@@ -60,10 +62,31 @@ pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const
     return PP5_OK;
 }
 
+pp5_status_t native_renderer_build_scalar(native_renderer_t *r, const volume_t *v,
+                                          scalar_pyramid_kind_t kind)
+{
+    scalar_pyramid_free(&r->scalar);
+    r->have_scalar = false;
+    double t0 = now_ms();
+    pp5_status_t st = scalar_pyramid_build(&r->scalar, v, kind, r->threads);
+    if (st != PP5_OK)
+        return st;
+    const scalar_level_t *a = &r->scalar.level[0];
+    const mip3d_level_t *b = &r->mip.level[0];
+    if (a->nx != b->nx || a->ny != b->ny || a->nz != b->nz) {
+        scalar_pyramid_free(&r->scalar);
+        return pp5_fail(PP5_E_RANGE, "render: the value pyramid's volume is not the renderer's");
+    }
+    r->ms_build_scalar = now_ms() - t0;
+    r->have_scalar = true;
+    return PP5_OK;
+}
+
 void native_renderer_free(native_renderer_t *r)
 {
     mip3d_free(&r->mip);
     octree_free(&r->octree);
+    scalar_pyramid_free(&r->scalar);
     mip2d_free(&r->mip2d);
     gaze_level_tables_free(&r->tables);
     free(r->level_best);
@@ -81,7 +104,8 @@ static bool same_view(const render_settings_t *a, const render_settings_t *b)
 {
     return a->width == b->width && a->height == b->height && a->mode == b->mode &&
            a->level_tables == b->level_tables && memcmp(&a->view, &b->view, sizeof a->view) == 0 &&
-           memcmp(&a->display, &b->display, sizeof a->display) == 0;
+           memcmp(&a->display, &b->display, sizeof a->display) == 0 &&
+           memcmp(&a->blend, &b->blend, sizeof a->blend) == 0;
 }
 
 #define MARK_MAX_BANDS 1024
@@ -90,6 +114,7 @@ typedef struct {
     native_renderer_t *r;
     const render_settings_t *s;
     raycast_ctx_t ray;
+    blend_ctx_t blend;            /* rays of --blend mip|demip|mida */
     int band_rows, bands, band_parity;
     bool band_full[MARK_MAX_BANDS];
     double gaze_scale;            /* eccentricity divisor for progressive growth */
@@ -175,6 +200,7 @@ static void job_cast_row(void *ctx, int item, int thread)
     size_t base = (size_t)j * m->w[l];
     /* Gather the row's uncast, needed texels and trace them in batches. */
     float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    float guess = 0.0f;           /* MIP/DEMIP threshold guess along the row */
     int idx[RAYCAST_BATCH], n = 0;
     for (int i = 0; i <= m->w[l]; i++) {
         if (i < m->w[l]) {
@@ -184,7 +210,11 @@ static void job_cast_row(void *ctx, int item, int thread)
             idx[n++] = i;
         }
         if (n == RAYCAST_BATCH || (i == m->w[l] && n > 0)) {
-            raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+            if (job->s->blend.mode == BLEND_COMPOSITE)
+                raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+            else
+                blend_trace_batch(&job->blend, n, px, py, l, rgb, &guess,
+                                  &job->counts[thread].c);
             for (int b = 0; b < n; b++) {
                 float *dst = m->rgb[l] + (base + (size_t)idx[b]) * 3;
                 dst[0] = rgb[b][0];
@@ -221,10 +251,17 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         !(s->view.early_termination > 0.0f) || !(s->view.early_termination <= 1.0f))
         return pp5_fail(PP5_E_RANGE, "render: sample step (0, 64], zoom > 0 and early "
                         "termination (0, 1] required");
+    pp5_status_t st = blend_settings_check(&s->blend);
+    if (st != PP5_OK)
+        return st;
+    if (s->blend.mode != BLEND_COMPOSITE && (!r->have_scalar || r->scalar.kind != s->blend.pyramid))
+        return pp5_fail(PP5_E_CONFIG, "render: --blend %s needs the %s value pyramid "
+                        "(native_renderer_build_scalar)", blend_mode_name(s->blend.mode),
+                        scalar_pyramid_kind_name(s->blend.pyramid));
     double t_start = now_ms();
     int threads = s->threads > 0 ? s->threads : r->threads;
     gaze_model_t gm;
-    pp5_status_t st = gaze_model_init(&gm, &s->display, s->width, s->height);
+    st = gaze_model_init(&gm, &s->display, s->width, s->height);
     if (st != PP5_OK)
         return st;
     bool keep = s->progressive && r->have_view && same_view(s, &r->last);
@@ -283,6 +320,8 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
     camera_t cam;
     camera_setup(&cam, &s->view, &r->mip, s->width, s->height);
     raycast_ctx_init(&job->ray, &r->mip, &r->octree, &cam, &r->shade, &s->view);
+    if (s->blend.mode != BLEND_COMPOSITE)
+        blend_ctx_init(&job->blend, &r->scalar, &cam, &s->view, &s->blend);
 
     /* Phase 1: 2DLevel per pixel, then the texels it needs (serial marking:
      * neighbouring pixels share texels). */
@@ -320,11 +359,17 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
     double t3 = now_ms();
     if (st == PP5_OK)
         st = parallel_for(threads, s->height, job_reconstruct_row, job);
+    /* The colour sphere's legend (seed 002 figure 1), drawn over the image. */
+    if (st == PP5_OK && s->blend.mode == BLEND_DEMIP && s->blend.sphere_weight > 0.0f &&
+        s->blend.legend)
+        colour_sphere_draw_legend(&job->blend.frame.sphere, cam.right, cam.down, cam.forward,
+                                  out);
     double t4 = now_ms();
     for (int t = 0; t < PARALLEL_MAX_THREADS; t++) {
         stats->rays += job->counts[t].c.rays;
         stats->samples += job->counts[t].c.samples;
         stats->samples_skipped += job->counts[t].c.samples_skipped;
+        stats->samples_retraced += job->counts[t].c.samples_retraced;
     }
     free(job);
     stats->ms_levels = t2 - t1;

@@ -16,12 +16,14 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include "blend.h"
 #include "classify.h"
 #include "gaze2d.h"
 #include "mip3d.h"
 #include "octree.h"
 #include "png_io.h"
 #include "raycast.h"
+#include "scalar_pyramid.h"
 #include "shade.h"
 #include "volume.h"
 
@@ -42,6 +44,9 @@ typedef struct {
     /* 2DLevel by the paper's lookup tables (gaze2d.h) instead of exactly: how
      * the machine computes it by default, for like-for-like comparisons. */
     bool level_tables;
+    /* What each ray does with its samples (blend.h); compositing by default.
+     * MIP, DEMIP and MIDA need native_renderer_build_scalar first. */
+    blend_settings_t blend;
 } render_settings_t;
 
 void render_settings_defaults(render_settings_t *s);
@@ -49,6 +54,7 @@ const char *render_mode_name(render_mode_t m);
 
 typedef struct {
     uint64_t rays, samples, samples_skipped;
+    uint64_t samples_retraced;    /* MIP/DEMIP only: see raycast_counts_t */
     double ms_levels, ms_cast, ms_reconstruct, ms_total;
     int frame_index;              /* 0 for the first frame of a view */
     bool full_resolution_everywhere; /* every pixel at 2D level 0 */
@@ -61,6 +67,10 @@ typedef struct {
     octree_t octree;
     double ms_build_mip, ms_build_octree;
     int threads;
+    /* The value pyramid MIP, DEMIP and MIDA rays sample (scalar_pyramid.h). */
+    scalar_pyramid_t scalar;
+    bool have_scalar;
+    double ms_build_scalar;
     /* Per-view state kept between progressive frames. */
     mip2d_t mip2d;
     float *level_best;            /* per pixel: finest 2DLevel so far */
@@ -77,6 +87,10 @@ typedef struct {
 pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads);
 void native_renderer_free(native_renderer_t *r);
+/* Builds (or rebuilds) the value pyramid of `v` for --blend mip|demip|mida:
+ * per volume, independent of the transfer function and the window. */
+pp5_status_t native_renderer_build_scalar(native_renderer_t *r, const volume_t *v,
+                                          scalar_pyramid_kind_t kind);
 /* Renders one frame into `out` (allocated here, RGB). */
 pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
                             render_stats_t *stats);

@@ -49,6 +49,10 @@ pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s)
                  "brainsmall_128x128x84_u8.raw.gz", scene_data_root());
         spec.nx = 128, spec.ny = 128, spec.nz = 84, spec.type = VOXEL_U8;
         preset = "mr";
+        /* From its histogram: background below 15, the brightest tissue
+         * ends near 165 (a few voxels reach 202). */
+        s->window_centre = 90.0f;
+        s->window_width = 150.0f;
         /* Sagittal planes, face toward x = 0, top toward y = 0 (README):
          * looking along +z shows the side of the head upright. */
     } else if (strcmp(dataset, "cthead") == 0) {
@@ -59,6 +63,12 @@ pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s)
         spec.spacing[0] = spec.spacing[1] = 1.0;
         spec.spacing[2] = 2.0;       /* 1:1:2 (data README) */
         preset = "ct-skin";
+        /* The radiologists' bone window (level 500 HU, width 2000 HU) in
+         * CThead's units, where air is 0 and soft tissue 1000-1100, i.e.
+         * value = HU + 1000: material 0 at 500, 1 at 2500 (dense bone and
+         * teeth saturate; the bone peak, 1900-2200, does not). */
+        s->window_centre = 1500.0f;
+        s->window_width = 2000.0f;
         /* Slice 1 above the vertex, table at +y: look along +y from the face
          * side with the vertex up. */
         s->rot_x_deg = 90.0f;
@@ -74,6 +84,7 @@ pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s)
                  "instead", path);
         s->fell_back = true;
         s->rot_x_deg = s->rot_y_deg = s->rot_z_deg = 0.0f;
+        s->window_centre = s->window_width = 0.0f;
         return load_phantom("shepp-logan", s);
     }
     pp5_status_t st = volume_load_raw(path, &spec, &s->volume);

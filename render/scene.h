@@ -13,6 +13,9 @@ typedef struct {
     volume_t volume;
     classify_tf_t tf;
     float rot_x_deg, rot_y_deg, rot_z_deg;   /* a view that shows the subject's face/side */
+    /* Window/level for MIP, DEMIP and MIDA (blend.h), in the data's units;
+     * width 0: none (the volume's value range is used). */
+    float window_centre, window_width;
     char name[64];                            /* "mrbrain", "cthead", "phantom shepp-logan" */
     bool fell_back;                           /* the data was absent: phantom used instead */
     char note[1280];                          /* why, when fell_back */

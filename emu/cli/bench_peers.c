@@ -7,10 +7,10 @@
 #include <unistd.h>
 
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
-                     double ours_gaze_ms);
+                     double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi);
 
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
-                     double ours_gaze_ms)
+                     double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi)
 {
     if (!dataset_path) {
         printf("   peers: skipped (CThead absent; peers need the real data)\n");
@@ -21,8 +21,8 @@ int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
         return 0;
     }
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "sh render/peers/run_peers.sh '%s' %d %.1f %.1f", dataset_path,
-             size, ours_full_ms, ours_gaze_ms);
+    snprintf(cmd, sizeof cmd, "sh render/peers/run_peers.sh '%s' %d %.1f %.1f %.1f %g %g",
+             dataset_path, size, ours_full_ms, ours_gaze_ms, ours_mip_ms, window_lo, window_hi);
     fflush(stdout);
     int rc = system(cmd);
     if (rc != 0)

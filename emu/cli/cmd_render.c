@@ -80,8 +80,16 @@ enum {
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
     OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_MACHINE, OPT_DIVISION, OPT_SPLIT, OPT_FRAMES,
-    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET
+    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET,
+    OPT_BLEND   /* OPT_BLEND + i: blend_options[i] */
 };
+
+/* render/blend.h parses all of these (blend_option), by name. */
+static const char *const blend_options[] = {
+    "blend", "window", "tolerance", "depth-weight", "depth", "demip-reading", "sphere-weight",
+    "sphere-map", "sphere-rotate", "mip-pyramid",
+};
+#define N_BLEND_OPTIONS ((int)(sizeof blend_options / sizeof blend_options[0]))
 
 static const struct option longopts[] = {
     {"phantom", required_argument, NULL, OPT_PHANTOM},
@@ -129,6 +137,16 @@ static const struct option longopts[] = {
     {"preset", required_argument, NULL, OPT_PRESET},
     {"config", required_argument, NULL, OPT_CONFIG},
     {"set", required_argument, NULL, OPT_SET},
+    {"blend", required_argument, NULL, OPT_BLEND + 0},
+    {"window", required_argument, NULL, OPT_BLEND + 1},
+    {"tolerance", required_argument, NULL, OPT_BLEND + 2},
+    {"depth-weight", required_argument, NULL, OPT_BLEND + 3},
+    {"depth", required_argument, NULL, OPT_BLEND + 4},
+    {"demip-reading", required_argument, NULL, OPT_BLEND + 5},
+    {"sphere-weight", required_argument, NULL, OPT_BLEND + 6},
+    {"sphere-map", required_argument, NULL, OPT_BLEND + 7},
+    {"sphere-rotate", required_argument, NULL, OPT_BLEND + 8},
+    {"mip-pyramid", required_argument, NULL, OPT_BLEND + 9},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
 };
@@ -335,6 +353,14 @@ static pp5_status_t parse_machine(render_cmd_t *c, int opt, const char *a)
     return st;
 }
 
+/* MIP, DEMIP, MIDA and their settings (seed 002). */
+static pp5_status_t parse_blend(render_cmd_t *c, int opt, const char *a)
+{
+    if (opt < OPT_BLEND || opt >= OPT_BLEND + N_BLEND_OPTIONS)
+        return NOT_MINE;
+    return blend_option(blend_options[opt - OPT_BLEND], a, &c->choices.settings.blend);
+}
+
 void render_cmd_defaults(render_cmd_t *c)
 {
     memset(c, 0, sizeof *c);
@@ -348,6 +374,7 @@ static pp5_status_t parse_option(render_cmd_t *c, int opt, const char *arg)
 {
     pp5_status_t (*const groups[])(render_cmd_t *, int, const char *) = {
         parse_input, parse_shading, parse_view, parse_gaze, parse_output, parse_machine,
+        parse_blend,
     };
     for (size_t i = 0; i < sizeof groups / sizeof groups[0]; i++) {
         pp5_status_t st = groups[i](c, opt, arg);
@@ -365,6 +392,10 @@ static pp5_status_t render_run(render_cmd_t *c)
         return st;
     render_job_t job;
     st = render_job_resolve(&job, &sc, &c->choices);
+    /* The firmware casts compositing rays only, so far. */
+    if (st == PP5_OK && c->machine && job.settings.blend.mode != BLEND_COMPOSITE)
+        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only; MIP, DEMIP and "
+                      "MIDA run natively (drop --machine)");
     if (st == PP5_OK)
         st = c->machine ? render_machine_run(c, &job, stdout) : render_native_run(c, &job, &sc, stdout);
     scene_free(&sc);
@@ -382,6 +413,7 @@ static int render_main(int argc, char **argv)
     while (st == PP5_OK && (opt = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
         if (opt == OPT_HELP || opt == 'h') {
             render_usage();
+            fputs(blend_help(), stdout);
             return 0;
         }
         if (opt == '?')

@@ -24,6 +24,8 @@ static void report_stats(json_writer_t *j, const char *key, const render_stats_t
     json_kv_uint(j, "rays", s->rays);
     json_kv_uint(j, "samples_3d", s->samples);
     json_kv_uint(j, "samples_skipped_by_octree", s->samples_skipped);
+    if (s->samples_retraced)
+        json_kv_uint(j, "samples_retraced", s->samples_retraced);
     json_kv_double(j, "ms_levels", s->ms_levels);
     json_kv_double(j, "ms_cast", s->ms_cast);
     json_kv_double(j, "ms_reconstruct", s->ms_reconstruct);
@@ -51,6 +53,7 @@ static void report_settings(json_writer_t *j, const render_job_t *job, const nat
     json_kv_double(j, "sample_step", s->view.sample_step);
     json_kv_double(j, "early_termination", s->view.early_termination);
     json_kv_bool(j, "octree", s->view.use_octree);
+    blend_report_json(j, &s->blend);
     json_kv_string(j, "transfer_function", job->tf.name);
     json_kv_string(j, "lighting", shade_case_name(job->shade.lighting));
     json_kv_int(j, "threads", s->threads > 0 ? s->threads : r->threads);
@@ -126,6 +129,19 @@ static pp5_status_t write_report(const char *path, const render_job_t *job, cons
     return PP5_OK;
 }
 
+/* A renderer for the job: the 3D mip map and octree, plus the value pyramid
+ * that MIP, DEMIP and MIDA rays sample. */
+static pp5_status_t renderer_for(native_renderer_t *r, const render_job_t *job, int threads)
+{
+    pp5_status_t st = native_renderer_init(r, job->volume, &job->tf, &job->shade, threads);
+    if (st == PP5_OK && job->settings.blend.mode != BLEND_COMPOSITE) {
+        st = native_renderer_build_scalar(r, job->volume, job->settings.blend.pyramid);
+        if (st != PP5_OK)
+            native_renderer_free(r);
+    }
+    return st;
+}
+
 static pp5_status_t run_frames(native_renderer_t *r, const render_job_t *job, image8_t *img,
                                native_run_t *run, FILE *log)
 {
@@ -166,7 +182,7 @@ static pp5_status_t compare_full(const render_job_t *job, const native_renderer_
     fs.progressive = false;
     image8_t ref = {0};
     native_renderer_t r2;
-    pp5_status_t st = native_renderer_init(&r2, job->volume, &job->tf, &job->shade, fs.threads);
+    pp5_status_t st = renderer_for(&r2, job, fs.threads);
     if (st == PP5_OK) {
         st = native_renderer_frame(&r2, &fs, &ref, &run->full_stats);
         native_renderer_free(&r2);
@@ -191,8 +207,7 @@ pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, c
                                FILE *log)
 {
     native_renderer_t r;
-    pp5_status_t st = native_renderer_init(&r, job->volume, &job->tf, &job->shade,
-                                           job->settings.threads);
+    pp5_status_t st = renderer_for(&r, job, job->settings.threads);
     if (st != PP5_OK)
         return st;
     fprintf(log, "volume: %s (%dx%dx%d, values %g..%g), tf %s, lighting %s\n", sc->volume.source,
@@ -201,6 +216,10 @@ pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, c
     fprintf(log, "3D mip map: %d levels, %d floats/voxel, %.1f MB, built in %.0f ms; octree "
             "%.1f MB in %.0f ms\n", r.mip.levels, r.mip.stride, r.mip.bytes / 1e6,
             r.ms_build_mip, r.octree.bytes / 1e6, r.ms_build_octree);
+    const blend_settings_t *b = &job->settings.blend;
+    if (b->mode != BLEND_COMPOSITE)
+        fprintf(log, "blend %s: %s value pyramid %.1f MB in %.0f ms\n", blend_mode_name(b->mode),
+                scalar_pyramid_kind_name(b->pyramid), r.scalar.bytes / 1e6, r.ms_build_scalar);
     native_run_t run = {.frames = job->frames};
     run.stats = calloc((size_t)run.frames, sizeof *run.stats);
     image8_t img = {0};

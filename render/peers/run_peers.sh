@@ -1,12 +1,15 @@
 #!/bin/sh
 # run_peers.sh: the optional peer comparisons of `pp5 bench --peers`.
-#   sh render/peers/run_peers.sh CTHEAD_RAW_GZ IMAGE_SIDE OURS_FULL_MS OURS_GAZE_MS
+#   sh render/peers/run_peers.sh CTHEAD_RAW_GZ IMAGE_SIDE OURS_FULL_MS OURS_GAZE_MS \
+#      [OURS_MIP_MS WINDOW_LO WINDOW_HI]
 # Installs VTK (python3-vtk9), Xvfb and VolPack (libvolpack1-dev) with apt-get
 # when run as root, otherwise prints the command; builds volpack_peer.c; runs
 # both peers on CThead at the same image size and prints ms/frame and the
-# ratios against pp5's native renderer.  Never fails the benchmark run.
+# ratios against pp5's native renderer; with the MIP arguments also VTK in
+# MIP blend mode over the same window.  Never fails the benchmark run.
 set -u
 data=$1 side=$2 ours_full=$3 ours_gaze=$4
+ours_mip=${5:-} win_lo=${6:-} win_hi=${7:-}
 here=$(dirname "$0")
 pkgs="python3-vtk9 xvfb xauth libvolpack1-dev"
 missing=""
@@ -44,14 +47,22 @@ echo "   peers on CThead ${side}x${side}, shaded composite, value ramp 350..640 
 [ -n "$vp_ms" ] && echo "     VolPack shear-warp (1 thread, classified volume): ${vp_ms} ms/frame" ||
     echo "     VolPack: did not run"
 echo "     pp5 native full resolution: ${ours_full} ms/frame; gaze-directed: ${ours_gaze} ms/frame"
-if [ -n "$vtk_ms" ]; then
-    awk -v v="$vtk_ms" -v f="$ours_full" 'BEGIN {
-        printf "     full resolution vs VTK: %.2fx %s (goal: >= 2x faster)\n",
-               v / f, (v / f >= 1 ? "faster" : "(slower: ratio < 1)") }'
-fi
-if [ -n "$vp_ms" ]; then
-    awk -v v="$vp_ms" -v g="$ours_gaze" 'BEGIN {
-        printf "     gaze-directed vs VolPack: %.2fx %s (goal: no slower)\n",
-               v / g, (v / g >= 1 ? "faster" : "(slower: ratio < 1)") }'
+# ratio_line LABEL PEER_MS OURS_MS GOAL: "LABEL: 2.00x faster (goal: GOAL)".
+ratio_line() {
+    awk -v l="$1" -v v="$2" -v f="$3" -v g="$4" 'BEGIN {
+        printf "     %s: %.2fx %s (goal: %s)\n", l, v / f,
+               (v / f >= 1 ? "faster" : "(slower: ratio < 1)"), g }'
+}
+[ -n "$vtk_ms" ] && ratio_line "full resolution vs VTK" "$vtk_ms" "$ours_full" ">= 2x faster"
+[ -n "$vp_ms" ] && ratio_line "gaze-directed vs VolPack" "$vp_ms" "$ours_gaze" "no slower"
+if [ -n "$ours_mip" ]; then
+    mip_ms=$(xvfb-run -a "$py" "$here/vtk_peer.py" "$tmp/cthead.raw" 256 256 113 "$side" 9 2 \
+             --mip "$win_lo,$win_hi" | awk '/vtk_ms_per_frame/ {print $2}')
+    echo "   peers on CThead ${side}x${side}, MIP, grey window ${win_lo}..${win_hi}, parallel:"
+    [ -n "$mip_ms" ] && echo "     VTK vtkFixedPointVolumeRayCastMapper MIP (2 threads, Xvfb): ${mip_ms} ms/frame" ||
+        echo "     VTK MIP: did not run"
+    echo "     pp5 native MIP full resolution: ${ours_mip} ms/frame"
+    [ -n "$mip_ms" ] && ratio_line "full-resolution MIP vs VTK MIP" "$mip_ms" "$ours_mip" \
+        ">= 5x faster"
 fi
 exit 0

@@ -2,7 +2,10 @@
 caster) on CThead for `pp5 bench --peers`.  Run under Xvfb by run_peers.sh
 with Debian's python3-vtk9; not part of the pp5 build.
 
-usage: vtk_peer.py RAW_U16BE NX NY NZ IMAGE_SIDE FRAMES THREADS [PNG]
+usage: vtk_peer.py RAW_U16BE NX NY NZ IMAGE_SIDE FRAMES THREADS [PNG] [--mip LO,HI]
+--mip: maximum intensity projection (SetBlendModeToMaximumIntensity) with a
+grey ramp from LO to HI and opacity 1, as pp5's --blend mip --window;
+otherwise shaded compositing with pp5's ct-skin-ramp.
 Prints "vtk_ms_per_frame <median>"."""
 import sys
 import time
@@ -10,12 +13,37 @@ import time
 import vtk
 
 
+def set_mip(mapper, prop, lo, hi):
+    """MIP over the window lo..hi: grey = material, black below lo."""
+    mapper.SetBlendModeToMaximumIntensity()
+    opacity = vtk.vtkPiecewiseFunction()
+    opacity.AddPoint(0, 1.0)
+    opacity.AddPoint(4095, 1.0)
+    color = vtk.vtkColorTransferFunction()
+    color.AddRGBPoint(min(lo, 0.0), 0.0, 0.0, 0.0)
+    color.AddRGBPoint(lo, 0.0, 0.0, 0.0)
+    color.AddRGBPoint(hi, 1.0, 1.0, 1.0)
+    color.AddRGBPoint(max(hi, 4095.0), 1.0, 1.0, 1.0)
+    prop.SetScalarOpacity(opacity)
+    prop.SetColor(color)
+    prop.ShadeOff()
+
+
 def main():
-    if len(sys.argv) not in (8, 9):
+    args = sys.argv[1:]
+    mip = None
+    if "--mip" in args:
+        i = args.index("--mip")
+        if i + 1 >= len(args):
+            print(__doc__)
+            return 2
+        mip = [float(x) for x in args[i + 1].split(",")]
+        del args[i:i + 2]
+    if len(args) not in (7, 8):
         print(__doc__)
         return 2
-    path = sys.argv[1]
-    nx, ny, nz, side, frames, threads = (int(a) for a in sys.argv[2:8])
+    path = args[0]
+    nx, ny, nz, side, frames, threads = (int(a) for a in args[1:7])
     reader = vtk.vtkImageReader2()
     reader.SetFileName(path)
     reader.SetFileDimensionality(3)
@@ -50,6 +78,8 @@ def main():
     mapper.SetNumberOfThreads(threads)
     mapper.SetSampleDistance(1.0)
     mapper.SetAutoAdjustSampleDistances(0)
+    if mip is not None:
+        set_mip(mapper, prop, mip[0], mip[1])
     volume = vtk.vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)
@@ -80,12 +110,12 @@ def main():
         times.append((time.perf_counter() - t0) * 1e3)
     times.sort()
     print("vtk_ms_per_frame %.2f" % times[len(times) // 2])
-    if len(sys.argv) == 9:
+    if len(args) == 8:
         grab = vtk.vtkWindowToImageFilter()
         grab.SetInput(win)
         grab.Update()
         writer = vtk.vtkPNGWriter()
-        writer.SetFileName(sys.argv[8])
+        writer.SetFileName(args[7])
         writer.SetInputConnection(grab.GetOutputPort())
         writer.Write()
     return 0
