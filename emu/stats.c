@@ -189,11 +189,16 @@ static pp5_status_t collect_gp(stats_t *s, const gp_t *g, double frames_s)
     COUNTER(ticks_to_s(g->setup_busy_ps), "s", "part of busy_s spent during setup", "gp.%u.setup_busy_s", i);
     COUNTER((double)g->msgs_sent, "count", "ring messages sent", "gp.%u.messages_sent", i);
     VALUE((double)g->mem_peak_bytes, "bytes", "peak local memory in use", "gp.%u.mem_peak_bytes", i);
+    VALUE((double)gp_addr_top_peak(&g->addr), "bytes",
+          "highest emulated address of any block (above mem_peak_bytes by alignment and fragmentation)",
+          "gp.%u.mem_addr_peak_bytes", i);
     const fw_ops_t *o = &g->ops_total;
     const struct { const char *name; uint64_t v; } ops[] = {
         {"fadd", o->fadd}, {"fmul", o->fmul}, {"fdiv", o->fdiv}, {"fsqrt", o->fsqrt},
         {"loads", o->loads}, {"stores", o->stores}, {"int_ops", o->int_ops},
-        {"branches", o->branches}, {"ext_bytes", o->ext_bytes},
+        {"branches", o->branches}, {"ext_bytes", o->ext_bytes}, {"load_use", o->load_use},
+        {"dcache_hits", o->dcache_hits}, {"dcache_misses", o->dcache_misses},
+        {"dcache_writebacks", o->dcache_writebacks},
     };
     for (size_t k = 0; k < sizeof ops / sizeof ops[0]; k++)
         COUNTER((double)ops[k].v, "count", "operations charged (fw_ops_t)", "gp.%u.ops.%s", i, ops[k].name);
