@@ -82,6 +82,7 @@ struct gp {
     pp5_tick_t setup_busy_ps;     /* part of busy_ps spent in machine_run_setup */
     uint64_t setup_busy_cycles;
     fw_ops_t ops_total;
+    fw_ops_t setup_ops;           /* part of ops_total charged in machine_run_setup */
 
     uint64_t mem_capacity_bytes, mem_used_bytes, mem_peak_bytes;
     gp_block_t *blocks;           /* every live allocation, freed at gp_free */

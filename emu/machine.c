@@ -340,6 +340,7 @@ pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
     for (unsigned i = 0; i < m->n_gp; i++) {
         m->gp[i].setup_busy_ps = m->gp[i].busy_ps;
         m->gp[i].setup_busy_cycles = m->gp[i].busy_cycles;
+        m->gp[i].setup_ops = m->gp[i].ops_total;
     }
     for (unsigned i = 0; i < m->n_rn; i++) {
         m->rn[i].setup_busy_ps = m->rn[i].busy_ps;

@@ -202,6 +202,14 @@ static pp5_status_t collect_gp(stats_t *s, const gp_t *g, double frames_s)
     };
     for (size_t k = 0; k < sizeof ops / sizeof ops[0]; k++)
         COUNTER((double)ops[k].v, "count", "operations charged (fw_ops_t)", "gp.%u.ops.%s", i, ops[k].name);
+    /* The data cache inside frames (setup excluded): line lookups. */
+    const fw_ops_t *su = &g->setup_ops;
+    COUNTER((double)(o->dcache_hits - su->dcache_hits), "count", "data-cache line lookups that hit, inside frames",
+            "gp.%u.frames_dcache_hits", i);
+    COUNTER((double)(o->dcache_misses - su->dcache_misses), "count", "data-cache line lookups that missed, inside frames",
+            "gp.%u.frames_dcache_misses", i);
+    COUNTER((double)(o->dcache_writebacks - su->dcache_writebacks), "count",
+            "written lines evicted (written back), inside frames", "gp.%u.frames_dcache_writebacks", i);
     for (unsigned k = 0; k < g->n_stats; k++)
         add(s, &st, g->stats[k].kind == FW_STAT_COUNTER ? STATS_COUNTER : STATS_VALUE,
             (double)g->stats[k].value, g->stats[k].unit, g->stats[k].meaning, "gp.%u.prog.%s", i,

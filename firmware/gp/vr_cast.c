@@ -73,12 +73,15 @@ fw_status_t vr_cast_send_boundary(gp_t *gp, vr_state_t *s)
     if (!buf)
         return FW_ERROR;
     size_t off = 0;
+    fw_ops_t o2 = {0};
     for (int m = 0; m < s->levels2d; m++) {
-        memcpy(buf + off, s->texel[m], (size_t)s->tw[m] * 3 * sizeof(float));
+        size_t bytes = (size_t)s->tw[m] * 3 * sizeof(float);
+        memcpy(buf + off, s->texel[m], bytes);
+        fw_dcache_access(gp, &o2, s->texel[m], 0, bytes, 0);
+        fw_dcache_access(gp, &o2, buf, off * sizeof(float), bytes, 1);
         off += (size_t)s->tw[m] * 3;
     }
-    fw_ops_t o2 = {0};
-    o2.loads = o2.stores = floats;
+    o2.loads = o2.stores = floats;    /* a copy loop: the loads are scheduled */
     fw_charge(gp, &o2);
     fw_status_t rc = vr_send_gp(gp, (unsigned)(s->g - 1), VR_MSG_BOUNDARY, (uint32_t)s->frame, 0,
                                 buf, floats * sizeof(float));

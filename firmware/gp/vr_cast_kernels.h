@@ -264,6 +264,184 @@ typedef struct {
     size_t idx;
 } vr_ray_slot_t;
 
+/* A ray being traced (raycast_trace's locals). */
+typedef struct {
+    float ov[3], dv[3];           /* origin and direction in voxel space */
+    float t0, t1, t;              /* clipped range, current ray parameter */
+    float spacing, level3d;
+    float acc[3], acc_a;          /* colour and opacity so far */
+    long k;                       /* sample index (parallel) */
+} vr_ray_t;
+
+/* The ray of pixel (px, py) clipped to the volume and, when resumed, its
+ * parked state.  Returns false when it misses the volume (a new ray's texel
+ * is then black). */
+static inline bool vr_ray_begin(const vr_state_t *s, const vr_ray_consts_t *rc, float px, float py,
+                                vr_ray_slot_t slot, bool resume, vr_ray_t *r, const vr_mem_t *mem,
+                                vr_spans_t *sp, vr_count_t *cnt)
+{
+    const vr_config_t *c = &s->cfg;
+    const vr_frame_t *f = &s->fr;
+    float *rgb = s->texel[slot.m] + slot.idx * 3;
+    float o[3], d[3];
+    vr_camera_ray(f, c->width, c->height, px, py, o, d, sp, cnt);
+    if (!vr_clip_box(o, d, f->box_hi, &r->t0, &r->t1, sp, cnt)) {
+        if (!resume) {
+            rgb[0] = rgb[1] = rgb[2] = 0.0f;
+            vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 1);
+            VR_SPAN(sp, cnt, RAY_MISS, .branches = 1, .stores = 3);
+        }
+        return false;
+    }
+    for (int k = 0; k < 3; k++) {
+        r->ov[k] = o[k] * c->inv_spacing[k];
+        r->dv[k] = d[k] * c->inv_spacing[k];
+    }
+    r->acc[0] = r->acc[1] = r->acc[2] = 0.0f;
+    r->acc_a = 0.0f;
+    r->k = 0;
+    r->t = r->t0;
+    /* voxel-space origin and direction (3 loads, 6 multiplies); the
+     * projection and resume tests */
+    VR_SPAN(sp, cnt, RAY_START, .loads = 3, .fmul = 6, .branches = 2);
+    if (rc->perspective) {
+        if (r->t < 1e-3f)
+            r->t = 1e-3f;
+        VR_SPAN(sp, cnt, RAY_NEAR, .fadd = 1, .branches = 1);
+    }
+    if (resume) {
+        r->acc[0] = rgb[0];
+        r->acc[1] = rgb[1];
+        r->acc[2] = rgb[2];
+        r->acc_a = s->ray_a[slot.m][slot.idx];
+        r->k = s->ray_k[slot.m][slot.idx];
+        /* A parked ray's t is t0 + k base (parallel) or the product of its
+         * steps (perspective), exactly as stored. */
+        r->t = rc->perspective ? s->ray_t[slot.m][slot.idx] : r->t0 + (float)r->k * rc->base;
+        vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 0);
+        vr_mem_access(mem, s->ray_a[slot.m], slot.idx * 4, 4, 0);
+        vr_mem_access(mem, s->ray_k[slot.m], slot.idx * 4, 4, 0);
+        vr_mem_access(mem, s->ray_t[slot.m], slot.idx * 4, 4, 0);
+        /* colour (3), opacity, index and t loads (t is loaded in both
+         * projections and one of the two values kept: both counted, with the
+         * conversion, multiply and add of t0 + k base) */
+        VR_SPAN(sp, cnt, RAY_RESUME, .loads = 3 + 3, .int_ops = 1, .fmul = 1, .fadd = 1, .branches = 1);
+    }
+    r->spacing = rc->base;
+    r->level3d = rc->level3d;
+    return true;
+}
+
+/* The ray's end (done) or its parking at the end of a depth segment. */
+static inline void vr_ray_store(const vr_state_t *s, vr_ray_slot_t slot, const vr_ray_t *r, bool park,
+                                const vr_mem_t *mem, vr_spans_t *sp, vr_count_t *cnt)
+{
+    float *rgb = s->texel[slot.m] + slot.idx * 3;
+    rgb[0] = r->acc[0];
+    rgb[1] = r->acc[1];
+    rgb[2] = r->acc[2];
+    vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 1);
+    if (!park) {
+        VR_SPAN(sp, cnt, RAY_END, .stores = 3);
+        return;
+    }
+    s->ray_a[slot.m][slot.idx] = r->acc_a;
+    s->ray_k[slot.m][slot.idx] = (int32_t)r->k;
+    s->ray_t[slot.m][slot.idx] = r->t;
+    vr_mem_access(mem, s->ray_a[slot.m], slot.idx * 4, 4, 1);
+    vr_mem_access(mem, s->ray_k[slot.m], slot.idx * 4, 4, 1);
+    vr_mem_access(mem, s->ray_t[slot.m], slot.idx * 4, 4, 1);
+    VR_SPAN(sp, cnt, RAY_PARK, .stores = 6);
+}
+
+/* An empty octree node at 3D level n with bounds lo..hi: the ray jumps to
+ * where it leaves the node.  Returns false when the ray leaves the volume
+ * there (the ray is done). */
+static inline bool vr_ray_skip(const vr_ray_consts_t *rc, int n, const float lo[3], const float hi[3],
+                               vr_ray_t *r, vr_spans_t *sp, vr_count_t *cnt, uint64_t *skipped)
+{
+    float t_exit = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        float te = INFINITY;
+        if (r->dv[a] > 0.0f && isfinite(hi[a])) {
+            te = (hi[a] - r->ov[a]) / r->dv[a];
+            VR_SPAN(sp, cnt, SKIP_DIVIDE, .fadd = 1, .fdiv = 1);
+        } else if (r->dv[a] < 0.0f && isfinite(lo[a])) {
+            te = (lo[a] - r->ov[a]) / r->dv[a];
+            VR_SPAN(sp, cnt, SKIP_DIVIDE, .fadd = 1, .fdiv = 1);
+        }
+        if (te < t_exit)
+            t_exit = te;
+    }
+    /* per axis the two direction tests with their isfinite (all counted)
+     * and the minimum; the test against t1 */
+    VR_SPAN(sp, cnt, SKIP_EXIT, .fadd = 3 * 3 + 1, .int_ops = 3 * 2, .branches = 3 * 5 + 1);
+    if (!(t_exit <= r->t1))
+        return false;
+    t_exit -= 1e-3f;
+    if (rc->perspective) {
+        float t_level = exp2f((float)(n + 1) + rc->offset) / (rc->growth - 1.0f);
+        if (n + 1 <= (int)rc->top && t_level < t_exit)
+            t_exit = t_level;
+        vr_libm(sp, cnt);
+        /* t_exit - 1e-3; n + 1 (add, conversion) + offset; the divide; the
+         * two tests (compare each; (int)top is the pass's); the loop back */
+        VR_SPAN(sp, cnt, SKIP_PERSPECTIVE, .fadd = 1 + 1 + 1, .int_ops = 2 + 1, .fdiv = 1, .branches = 2 + 1);
+        do {
+            r->t *= rc->growth;
+            (*skipped)++;
+            VR_SPAN(sp, cnt, SKIP_STEP, .fmul = 1, .fadd = 2, .branches = 2);
+        } while (r->t < t_exit && r->t <= r->t1);
+    } else {
+        long k_new = (long)ceilf((t_exit - r->t0) / rc->base);
+        if (k_new <= r->k)
+            k_new = r->k + 1;
+        *skipped += (uint64_t)(k_new - r->k);
+        r->k = k_new;
+        r->t = r->t0 + (float)r->k * rc->base;
+        /* t_exit - 1e-3; (t_exit - t0) / base, ceil, conversion; the compare
+         * with k (and k + 1); t (conversion, multiply, add); the loop back */
+        VR_SPAN(sp, cnt, SKIP_PARALLEL, .fadd = 1 + 1 + 1, .fdiv = 1, .int_ops = 2 + 2 + 1, .fmul = 1,
+                .branches = 1 + 1);
+    }
+    return true;
+}
+
+/* The sample at the ray's position p: looked up, corrected for the
+ * spacing and composited.  Returns true when the ray is opaque enough to
+ * stop (early termination). */
+static inline bool vr_ray_sample(const vr_state_t *s, const vr_ray_consts_t *rc, int level2d,
+                                 const float p[3], vr_ray_t *r, const vr_mem_t *mem, vr_spans_t *sp,
+                                 vr_count_t *cnt)
+{
+    float comp[4];
+    vr_sample3d(s, r->level3d, p, comp, mem, sp, cnt);
+    float col[3] = {comp[0], comp[1], comp[2]};
+    float a = comp[3];
+    VR_COUNT(cnt, POINT, .fadd = 1, .branches = 1);   /* a > 0 */
+    if (!(a > 0.0f))
+        return false;
+    /* spacing != 1; 1 - acc_a; 3 colour and 1 opacity multiply-adds; the
+     * termination test */
+    VR_SPAN(sp, cnt, COMPOSITE, .fadd = 1 + 1 + 4 + 1, .fmul = 4, .branches = 1 + 1);
+    if (r->spacing != 1.0f) {
+        /* a >= 1; ac / a and the colour scaled */
+        VR_SPAN(sp, cnt, CORRECT, .fadd = 1, .branches = 1, .fdiv = 1, .fmul = 3);
+        float ac = vr_correct_alpha(s, level2d, rc->perspective, r->spacing, a, sp, cnt);
+        float scale = ac / a;
+        col[0] *= scale;
+        col[1] *= scale;
+        col[2] *= scale;
+        a = ac;
+    }
+    float tt = 1.0f - r->acc_a;
+    r->acc[0] += tt * col[0];
+    r->acc[1] += tt * col[1];
+    r->acc[2] += tt * col[2];
+    r->acc_a += tt * a;
+    return r->acc_a >= s->cfg.early_termination;
+}
+
 /* TraceRay (raycast_trace) for the samples with ray parameter t < t_stop.
  * A ray stopped at t_stop keeps its accumulated colour in its texel and its
  * opacity and position in the level's parked-ray arrays, and resumes there
@@ -274,182 +452,48 @@ static inline bool vr_trace(const vr_state_t *s, const vr_ray_consts_t *rc, floa
                             vr_ray_slot_t slot, bool resume, float t_stop, const vr_mem_t *mem,
                             vr_spans_t *sp, vr_count_t *cnt, uint64_t *skipped)
 {
-    const vr_config_t *c = &s->cfg;
-    const vr_frame_t *f = &s->fr;
-    const int level2d = slot.m;
-    float *rgb = s->texel[slot.m] + slot.idx * 3;
-    float o[3], d[3], t0, t1;
-    vr_camera_ray(f, c->width, c->height, px, py, o, d, sp, cnt);
-    if (!vr_clip_box(o, d, f->box_hi, &t0, &t1, sp, cnt)) {
-        if (!resume) {
-            rgb[0] = rgb[1] = rgb[2] = 0.0f;
-            vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 1);
-            VR_SPAN(sp, cnt, RAY_MISS, .branches = 1, .stores = 3);
-        }
+    vr_ray_t r;
+    if (!vr_ray_begin(s, rc, px, py, slot, resume, &r, mem, sp, cnt))
         return true;
-    }
-    float ov[3], dv[3];
-    for (int k = 0; k < 3; k++) {
-        ov[k] = o[k] * c->inv_spacing[k];
-        dv[k] = d[k] * c->inv_spacing[k];
-    }
-    const bool perspective = rc->perspective;
-    const float base = rc->base, growth = rc->growth, top = rc->top, offset = rc->offset;
-    float acc[3] = {0.0f, 0.0f, 0.0f}, acc_a = 0.0f;
-    float comp[4];
-    long k = 0;
-    float t = t0;
-    /* voxel-space origin and direction (3 loads, 6 multiplies); the
-     * projection and resume tests */
-    VR_SPAN(sp, cnt, RAY_START, .loads = 3, .fmul = 6, .branches = 2);
-    if (perspective && t < 1e-3f) {
-        t = 1e-3f;
-    }
-    if (perspective)
-        VR_SPAN(sp, cnt, RAY_NEAR, .fadd = 1, .branches = 1);
-    if (resume) {
-        acc[0] = rgb[0];
-        acc[1] = rgb[1];
-        acc[2] = rgb[2];
-        acc_a = s->ray_a[slot.m][slot.idx];
-        k = s->ray_k[slot.m][slot.idx];
-        /* A parked ray's t is t0 + k base (parallel) or the product of its
-         * steps (perspective), exactly as stored. */
-        t = perspective ? s->ray_t[slot.m][slot.idx] : t0 + (float)k * base;
-        vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 0);
-        vr_mem_access(mem, s->ray_a[slot.m], slot.idx * 4, 4, 0);
-        vr_mem_access(mem, s->ray_k[slot.m], slot.idx * 4, 4, 0);
-        vr_mem_access(mem, s->ray_t[slot.m], slot.idx * 4, 4, 0);
-        /* colour (3), opacity, index and t loads (t is loaded in both
-         * projections and one of the two values kept: both counted, with the
-         * conversion, multiply and add of t0 + k base) */
-        VR_SPAN(sp, cnt, RAY_RESUME, .loads = 3 + 3, .int_ops = 1, .fmul = 1, .fadd = 1, .branches = 1);
-    }
-    float spacing = base;
-    float level3d = rc->level3d;
-    while (t <= t1) {
+    while (r.t <= r.t1) {
         /* the loop test, the segment test, the projection test, the position,
          * the octree test */
         VR_SPAN(sp, cnt, SAMPLE, .fadd = 2 + 3, .fmul = 3, .branches = 2 + 1 + 1);
-        if (t >= t_stop) {
-            /* end of this depth segment: park the ray */
-            rgb[0] = acc[0];
-            rgb[1] = acc[1];
-            rgb[2] = acc[2];
-            s->ray_a[slot.m][slot.idx] = acc_a;
-            s->ray_k[slot.m][slot.idx] = (int32_t)k;
-            s->ray_t[slot.m][slot.idx] = t;
-            vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 1);
-            vr_mem_access(mem, s->ray_a[slot.m], slot.idx * 4, 4, 1);
-            vr_mem_access(mem, s->ray_k[slot.m], slot.idx * 4, 4, 1);
-            vr_mem_access(mem, s->ray_t[slot.m], slot.idx * 4, 4, 1);
-            VR_SPAN(sp, cnt, RAY_PARK, .stores = 6);
+        if (r.t >= t_stop) {
+            vr_ray_store(s, slot, &r, true, mem, sp, cnt);   /* end of this depth segment */
             return false;
         }
-        if (perspective) {
-            spacing = t * (growth - 1.0f);
-            level3d = log2f(spacing) - offset;
-            level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+        if (rc->perspective) {
+            r.spacing = r.t * (rc->growth - 1.0f);
+            float level3d = log2f(r.spacing) - rc->offset;
+            r.level3d = level3d < 0.0f ? 0.0f : (level3d > rc->top ? rc->top : level3d);
             vr_libm(sp, cnt);
             VR_SPAN(sp, cnt, SAMPLE_PERSPECTIVE, .fmul = 1, .fadd = 1 + 2, .branches = 2);
         }
-        float p[3] = {ov[0] + t * dv[0], ov[1] + t * dv[1], ov[2] + t * dv[2]};
-        if (c->use_octree) {
+        float p[3] = {r.ov[0] + r.t * r.dv[0], r.ov[1] + r.t * r.dv[1], r.ov[2] + r.t * r.dv[2]};
+        if (s->cfg.use_octree) {
             float lo[3], hi[3];
-            int n = (int)level3d;
+            int n = (int)r.level3d;
             /* n (conversion), exact (conversion, compare); the result's test */
             VR_SPAN(sp, cnt, OCT_LEAF, .int_ops = 2 + 1, .fadd = 1, .branches = 1);
-            if (vr_oct_empty_node(s, n, level3d == (float)n, p, lo, hi, mem, sp, cnt) >= 0) {
-                float t_exit = INFINITY;
-                for (int a = 0; a < 3; a++) {
-                    float te = INFINITY;
-                    if (dv[a] > 0.0f && isfinite(hi[a])) {
-                        te = (hi[a] - ov[a]) / dv[a];
-                        VR_SPAN(sp, cnt, SKIP_DIVIDE, .fadd = 1, .fdiv = 1);
-                    } else if (dv[a] < 0.0f && isfinite(lo[a])) {
-                        te = (lo[a] - ov[a]) / dv[a];
-                        VR_SPAN(sp, cnt, SKIP_DIVIDE, .fadd = 1, .fdiv = 1);
-                    }
-                    if (te < t_exit)
-                        t_exit = te;
-                }
-                /* per axis the two direction tests with their isfinite (all
-                 * counted) and the minimum; the test against t1 */
-                VR_SPAN(sp, cnt, SKIP_EXIT, .fadd = 3 * 3 + 1, .int_ops = 3 * 2, .branches = 3 * 5 + 1);
-                if (!(t_exit <= t1))
+            if (vr_oct_empty_node(s, n, r.level3d == (float)n, p, lo, hi, mem, sp, cnt) >= 0) {
+                if (!vr_ray_skip(rc, n, lo, hi, &r, sp, cnt, skipped))
                     break;
-                t_exit -= 1e-3f;
-                if (perspective) {
-                    float t_level = exp2f((float)(n + 1) + offset) / (growth - 1.0f);
-                    if (n + 1 <= (int)top && t_level < t_exit)
-                        t_exit = t_level;
-                    vr_libm(sp, cnt);
-                    /* t_exit - 1e-3; n + 1 (add, conversion) + offset; the
-                     * divide; the two tests (compare each; (int)top is the
-                     * pass's); the loop back (continue) */
-                    VR_SPAN(sp, cnt, SKIP_PERSPECTIVE, .fadd = 1 + 1 + 1, .int_ops = 2 + 1, .fdiv = 1,
-                            .branches = 2 + 1);
-                    do {
-                        t *= growth;
-                        (*skipped)++;
-                        VR_SPAN(sp, cnt, SKIP_STEP, .fmul = 1, .fadd = 2, .branches = 2);
-                    } while (t < t_exit && t <= t1);
-                } else {
-                    long k_new = (long)ceilf((t_exit - t0) / base);
-                    if (k_new <= k)
-                        k_new = k + 1;
-                    *skipped += (uint64_t)(k_new - k);
-                    k = k_new;
-                    t = t0 + (float)k * base;
-                    /* t_exit - 1e-3; (t_exit - t0) / base, ceil, conversion;
-                     * the compare with k (and k + 1); t (conversion,
-                     * multiply, add); the loop back (continue) */
-                    VR_SPAN(sp, cnt, SKIP_PARALLEL, .fadd = 1 + 1 + 1, .fdiv = 1, .int_ops = 2 + 2 + 1,
-                            .fmul = 1, .branches = 1 + 1);
-                }
                 continue;
             }
         }
-        vr_sample3d(s, level3d, p, comp, mem, sp, cnt);
-        float col[3] = {comp[0], comp[1], comp[2]};
-        float a = comp[3];
-        VR_COUNT(cnt, POINT, .fadd = 1, .branches = 1);   /* a > 0 */
-        if (a > 0.0f) {
-            /* spacing != 1; 1 - acc_a; 3 colour and 1 opacity multiply-adds;
-             * the termination test */
-            VR_SPAN(sp, cnt, COMPOSITE, .fadd = 1 + 1 + 4 + 1, .fmul = 4, .branches = 1 + 1);
-            if (spacing != 1.0f) {
-                /* a >= 1; ac / a and the colour scaled */
-                VR_SPAN(sp, cnt, CORRECT, .fadd = 1, .branches = 1, .fdiv = 1, .fmul = 3);
-                float ac = vr_correct_alpha(s, level2d, perspective, spacing, a, sp, cnt);
-                float scale = ac / a;
-                col[0] *= scale;
-                col[1] *= scale;
-                col[2] *= scale;
-                a = ac;
-            }
-            float tt = 1.0f - acc_a;
-            acc[0] += tt * col[0];
-            acc[1] += tt * col[1];
-            acc[2] += tt * col[2];
-            acc_a += tt * a;
-            if (acc_a >= c->early_termination)
-                break;
-        }
-        if (perspective) {
-            t *= growth;
+        if (vr_ray_sample(s, rc, slot.m, p, &r, mem, sp, cnt))
+            break;
+        if (rc->perspective) {
+            r.t *= rc->growth;
             VR_SPAN(sp, cnt, STEP_PERSPECTIVE, .fmul = 1, .branches = 1);
         } else {
-            k++;
-            t = t0 + (float)k * base;
+            r.k++;
+            r.t = r.t0 + (float)r.k * rc->base;
             VR_SPAN(sp, cnt, STEP, .int_ops = 1 + 1, .fmul = 1, .fadd = 1, .branches = 1);
         }
     }
-    rgb[0] = acc[0];
-    rgb[1] = acc[1];
-    rgb[2] = acc[2];
-    vr_mem_access(mem, s->texel[slot.m], slot.idx * 12, 12, 1);
-    VR_SPAN(sp, cnt, RAY_END, .stores = 3);
+    vr_ray_store(s, slot, &r, false, mem, sp, cnt);
     return true;
 }
 
