@@ -162,8 +162,12 @@ void fw_charge(gp_t *gp, const fw_ops_t *ops)
 static const gp_block_t *gp_block_of(gp_t *gp, const void *block_base, size_t offset, size_t bytes,
                                      const char *who)
 {
+    if (!block_base) {
+        gp_record_error(gp, "%s: no block", who);
+        return NULL;
+    }
     const gp_block_t *b = (const gp_block_t *)((const char *)block_base - offsetof(gp_block_t, align));
-    if (!block_base || b->magic != GP_BLOCK_MAGIC) {
+    if (b->magic != GP_BLOCK_MAGIC) {
         gp_record_error(gp, "%s: %p is not a block fw_alloc returned", who, block_base);
         return NULL;
     }

@@ -154,24 +154,32 @@ static void run_rays(sess_t *x, tally_t *t)
     fw_ops_t mops = {0};
     const vr_mem_t mem = {x->gp, &mops};
     uint64_t skipped = 0;
-    int rays = 0;
+    int rays = 0, parked = 0, same = 0;
     for (int m = 0; m < s->levels2d; m++) {
         vr_ray_consts_t rc;
         vr_ray_consts(s, m, &rc);
-        float mid = s->fr.projection ? s->fr.eye_distance : 0.0f;
+        float mid = s->fr.projection ? s->fr.eye_distance : s->fr.radius + 1.0f;   /* mid-ray */
         for (int j = s->jlo[m]; j <= s->jhi[m]; j++)
             for (int i = 0; i < s->tw[m]; i++) {
                 vr_ray_slot_t slot = {m, (size_t)(j - s->jlo[m]) * s->tw[m] + (size_t)i};
                 float px = (float)(i << m) + 0.5f, py = (float)(j << m) + 0.5f;
                 vr_trace(s, &rc, px, py, slot, false, INFINITY, &mem, &t->sp, &t->cnt, &skipped);
-                if (!vr_trace(s, &rc, px, py, slot, false, mid, &mem, &t->sp, &t->cnt, &skipped))
+                float whole[3];
+                memcpy(whole, s->texel[m] + slot.idx * 3, sizeof whole);
+                if (!vr_trace(s, &rc, px, py, slot, false, mid, &mem, &t->sp, &t->cnt, &skipped)) {
                     vr_trace(s, &rc, px, py, slot, true, INFINITY, &mem, &t->sp, &t->cnt, &skipped);
+                    parked++;
+                }
+                /* in two segments exactly as in one */
+                same += memcmp(whole, s->texel[m] + slot.idx * 3, sizeof whole) == 0;
                 rays++;
             }
         vr_ray_slot_t slot = {m, 0};
         vr_trace(s, &rc, -500.0f, -500.0f, slot, false, INFINITY, &mem, &t->sp, &t->cnt, &skipped);
     }
     CHECK(rays > 100);
+    CHECK(parked > 10);
+    CHECK_EQ(same, rays);
     CHECK(mops.dcache_hits + mops.dcache_misses > 0);   /* the accesses were declared */
 }
 
