@@ -34,6 +34,7 @@
 #define PP5_VR_COST_H
 
 #include <stdint.h>
+#include <string.h>
 #include "fw_api.h"
 
 typedef struct {
@@ -242,6 +243,37 @@ static inline void vr_cost_add(fw_ops_t *o, const vr_cost_row_t *r, uint64_t tim
     o->stores += r->stores * times;
     o->int_ops += r->int_ops * times;
     o->branches += r->branches * times;
+}
+
+/* A typical ray, sample, skip and pixel as spans (what the host's planner,
+ * firmware/host/fw_estimate.c, weighs a band by; kept here, beside the rows,
+ * so that it follows them): an oblique parallel ray that meets the volume; a
+ * sampled position with all 8 corners fetched, composited with the table's
+ * opacity correction; an octree skip with three bounded axes; a pixel by the
+ * tables with two bilinear lookups and its marks. */
+static inline void vr_cost_typical(fw_ops_t *ray, fw_ops_t *sample, fw_ops_t *skip, fw_ops_t *pixel)
+{
+    static const struct {
+        int which, row;
+        unsigned times;
+    } spans[] = {
+        {0, VR_ROW_RAY, 1}, {0, VR_ROW_CLIP_AXIS, 3}, {0, VR_ROW_CLIP_END, 1}, {0, VR_ROW_RAY_START, 1},
+        {0, VR_ROW_RAY_END, 1},
+        {1, VR_ROW_SAMPLE, 1}, {1, VR_ROW_OCT_LEAF, 1}, {1, VR_ROW_POINT, 1}, {1, VR_ROW_TRILERP, 1},
+        {1, VR_ROW_CORNER, 8}, {1, VR_ROW_COMPOSITE, 1}, {1, VR_ROW_CORRECT, 1}, {1, VR_ROW_CORRECT_LUT, 1},
+        {1, VR_ROW_STEP, 1},
+        {2, VR_ROW_SAMPLE, 1}, {2, VR_ROW_OCT_LEAF, 1}, {2, VR_ROW_OCT_UP, 2}, {2, VR_ROW_SKIP, 1},
+        {2, VR_ROW_SKIP_EXIT, 1}, {2, VR_ROW_SKIP_DIVIDE, 3}, {2, VR_ROW_SKIP_PARALLEL, 1},
+        {3, VR_ROW_LEVEL_PIXEL, 1}, {3, VR_ROW_LEVEL_TABLE, 1}, {3, VR_ROW_LEVEL_TABLE_NEAR, 1},
+        {3, VR_ROW_MARK, 1}, {3, VR_ROW_MARK_LEVEL, 1}, {3, VR_ROW_MARK_ROW, 1}, {3, VR_ROW_MARK_STORE, 1},
+        {3, VR_ROW_PIXEL, 1}, {3, VR_ROW_BILERP, 2}, {3, VR_ROW_PIXEL_BLEND, 1},
+    };
+    fw_ops_t *out[4] = {ray, sample, skip, pixel};
+    const vr_cost_entry_t *t = vr_cost_table();
+    for (int k = 0; k < 4; k++)
+        memset(out[k], 0, sizeof *out[k]);
+    for (size_t i = 0; i < sizeof spans / sizeof spans[0]; i++)
+        vr_cost_add(out[spans[i].which], &t[spans[i].row].row, spans[i].times);
 }
 
 /* Production: how often each span ran. */

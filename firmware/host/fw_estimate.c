@@ -20,13 +20,6 @@
 /* Coarse cells are at most COARSE_SIDE per axis. */
 #define COARSE_SIDE 64
 
-static double row_cycles(const gp_cost_t *c, const vr_cost_row_t *r)
-{
-    fw_ops_t o = {0};
-    vr_cost_add(&o, r, 1);
-    return (double)gp_cost_cycles(c, &o);
-}
-
 /* The mean of the volume over cell (i, j, k) of f^3 voxels. */
 static float cell_mean(const volume_t *v, int f, int i, int j, int k)
 {
@@ -85,15 +78,14 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
     s->coarse_f = f;
     gp_cost_t cost;
     gp_cost_init(&cost, &s->params);
-    s->cycles_ray = row_cycles(&cost, &VR_COST_RAY);
-    s->cycles_sample = row_cycles(&cost, &VR_COST_SAMPLE) + row_cycles(&cost, &VR_COST_TRILERP) +
-                       row_cycles(&cost, &VR_COST_OCT_LEAF) + row_cycles(&cost, &VR_COST_COMPOSITE);
-    /* A skip: the leaf lookup, two steps up the pyramid, the exit
-     * computation and the sample bookkeeping of the position. */
-    s->cycles_skip = row_cycles(&cost, &VR_COST_SKIP) + row_cycles(&cost, &VR_COST_OCT_LEAF) +
-                     2 * row_cycles(&cost, &VR_COST_OCT_UP) + row_cycles(&cost, &VR_COST_SAMPLE);
-    s->cycles_pixel = row_cycles(&cost, &VR_COST_PIXEL) + row_cycles(&cost, &VR_COST_MARK) +
-                      row_cycles(&cost, &VR_COST_LEVEL_TABLE);
+    /* A typical ray, sample, skip (the leaf lookup, two steps up the
+     * pyramid, the exit) and pixel, as the firmware's spans (vr_cost.h). */
+    fw_ops_t ray, sample, skip, pixel;
+    vr_cost_typical(&ray, &sample, &skip, &pixel);
+    s->cycles_ray = (double)gp_cost_cycles(&cost, &ray);
+    s->cycles_sample = (double)gp_cost_cycles(&cost, &sample);
+    s->cycles_skip = (double)gp_cost_cycles(&cost, &skip);
+    s->cycles_pixel = (double)gp_cost_cycles(&cost, &pixel);
     return PP5_OK;
 }
 
