@@ -107,7 +107,7 @@ static int empty_height(const fw_session_t *s, const int c[3])
     for (int k = 0; k < 7; k++) {
         int size = 1 << k, base[3];
         for (int a = 0; a < 3; a++)
-            base[a] = (c[a] >> k) << k;
+            base[a] = (c[a] >> k) * size;     /* c may be negative: no left shift of it */
         /* node [base, base + size) padded by one cell */
         for (int z = base[2] - 1; z <= base[2] + size; z++)
             for (int y = base[1] - 1; y <= base[1] + size; y++)
