@@ -150,7 +150,12 @@ static void ray_work(const fw_session_t *s, const camera_t *cam, float px, float
         }
         int h = empty_height(s, c);
         if (h < 0) {
-            float alpha = s->coarse_alpha[((size_t)c[2] * s->coarse_ny + c[1]) * s->coarse_nx + c[0]];
+            /* On the box's faces floor() can give the cell just outside the
+             * grid: its neighbour is the one the ray samples. */
+            int dims[3] = {s->coarse_nx, s->coarse_ny, s->coarse_nz}, q[3];
+            for (int a = 0; a < 3; a++)
+                q[a] = c[a] < 0 ? 0 : (c[a] >= dims[a] ? dims[a] - 1 : c[a]);
+            float alpha = s->coarse_alpha[((size_t)q[2] * s->coarse_ny + q[1]) * s->coarse_nx + q[0]];
             *samples += 1;
             acc += (1 - acc) * (1 - pow(1 - fmin(alpha, 1.0), len));
             t += step;
