@@ -81,6 +81,12 @@ void *fw_alloc(gp_t *gp, size_t bytes)
         }
         b->capacity_bytes = capacity;
     }
+    if (gp_addr_alloc(&gp->addr, bytes, &b->emu_addr) != PP5_OK) {
+        gp_record_error(gp, "fw_alloc(%zu bytes): %s", bytes, pp5_error_text());
+        free(b);
+        return NULL;
+    }
+    b->magic = GP_BLOCK_MAGIC;
     b->bytes = bytes;
     b->prev = NULL;
     b->next = gp->blocks;
@@ -101,6 +107,9 @@ void fw_free(gp_t *gp, void *p)
         return;
     }
     gp_block_t *b = (gp_block_t *)((char *)p - offsetof(gp_block_t, align));
+    if (gp_addr_release(&gp->addr, b->emu_addr, b->bytes) != PP5_OK)
+        gp_record_error(gp, "fw_free: %s", pp5_error_text());
+    b->magic = 0;
     if (b->prev) {
         b->prev->next = b->next;
     } else {
@@ -146,6 +155,60 @@ void fw_charge(gp_t *gp, const fw_ops_t *ops)
 {
     gp_charge_cycles(gp, gp_cost_cycles(&gp->cost, ops));
     gp_cost_add(&gp->ops_total, ops);
+}
+
+/* The live block fw_alloc returned as `block_base`, or NULL (a firmware
+ * error is recorded) when it is not one or [offset, offset + bytes) leaves it. */
+static const gp_block_t *gp_block_of(gp_t *gp, const void *block_base, size_t offset, size_t bytes,
+                                     const char *who)
+{
+    if (!block_base) {
+        gp_record_error(gp, "%s: no block", who);
+        return NULL;
+    }
+    const gp_block_t *b = (const gp_block_t *)((const char *)block_base - offsetof(gp_block_t, align));
+    if (b->magic != GP_BLOCK_MAGIC) {
+        gp_record_error(gp, "%s: %p is not a block fw_alloc returned", who, block_base);
+        return NULL;
+    }
+    if (offset > b->bytes || bytes > b->bytes - offset) {
+        gp_record_error(gp, "%s: bytes [%zu, %zu) outside the %zu-byte block", who, offset,
+                        offset + bytes, b->bytes);
+        return NULL;
+    }
+    return b;
+}
+
+void fw_dcache_access(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset, size_t bytes,
+                      int is_store)
+{
+    const gp_block_t *b = gp_block_of(gp, block_base, offset, bytes, "fw_dcache_access");
+    if (b && bytes > 0)
+        gp_dcache_access(&gp->dcache, b->emu_addr + offset, bytes, is_store != 0, ops);
+}
+
+void fw_rx_deposit(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset, size_t bytes)
+{
+    const gp_block_t *b = NULL;
+    if (block_base && !(b = gp_block_of(gp, block_base, offset, bytes, "fw_rx_deposit")))
+        return;
+    if (bytes == 0)
+        return;
+    if (gp->rx_dma) {
+        /* [U] the port wrote memory behind the cache: its stale lines go. */
+        if (b)
+            gp_dcache_invalidate(&gp->dcache, b->emu_addr + offset, bytes);
+        return;
+    }
+    /* Programmed I/O: load a word from the port, store it; unrolled by 4. */
+    uint64_t words = (bytes + 3) / 4;
+    ops->loads += words;
+    ops->stores += words;
+    ops->int_ops += (words + 3) / 4;
+    ops->branches += (words + 3) / 4;
+    ops->ext_bytes += bytes;
+    if (b)
+        gp_dcache_access(&gp->dcache, b->emu_addr + offset, bytes, true, ops);
 }
 
 uint64_t fw_cycles(const gp_t *gp) { return gp->local_ps / gp->period_ps; }

@@ -15,11 +15,15 @@ pp5_status_t gp_init(gp_t *gp, unsigned index, const pp5_params_t *p, const fw_m
     gp_cost_init(&gp->cost, p);
     gp->period_ps = clock_period_ps(p->gp_clock_hz);
     gp->send_cycles = p->gp_send_cycles;
+    gp->rx_msg_cycles = p->gp_rx_msg_cycles;
+    gp->rx_dma = p->gp_rx_dma != 0;
     gp->mem_capacity_bytes = p->gp_local_mem_bytes;
     gp->sched = sched;
     gp->send = send;
     gp->send_ctx = send_ctx;
-    return PP5_OK;
+    gp_addr_init(&gp->addr);
+    return gp_dcache_init(&gp->dcache, p->i860_dcache_bytes, p->i860_dcache_line_bytes,
+                          p->i860_dcache_ways);
 }
 
 static void gp_drop_inbox(gp_t *gp)
@@ -44,6 +48,8 @@ void gp_free(gp_t *gp)
             b = next;
         }
     }
+    gp_dcache_free(&gp->dcache);
+    gp_addr_free_map(&gp->addr);
     memset(gp, 0, sizeof *gp);
 }
 
@@ -104,6 +110,7 @@ static pp5_status_t gp_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
         gp->inbox_head = (gp->inbox_head + 1) % gp->inbox_cap;
         gp->inbox_count--;
         what = ring_msg_kind_name(item.msg.kind);
+        gp_charge_cycles(gp, gp->rx_msg_cycles);   /* [U] taking it off the port */
         if (gp->prog && gp->prog->on_message) {
             rc = gp->prog->on_message(gp, &item.msg);
         }

@@ -8,9 +8,18 @@
  * HOST_LOAD is handled by the GP itself: it reserves the program image and
  * copies the data into local memory, then runs on_start.
  *
- * Modelled: i860 time from counted operations, local memory capacity, message
- * order, busy/idle time.  Not modelled: the i860 instruction stream itself,
- * caches beyond declared ext_bytes, interrupts/OS overhead, DMA engines. */
+ * Every message handed to on_message first costs gp.rx_msg_cycles (taking it
+ * off the ring port); a payload the program keeps is declared with
+ * fw_rx_deposit, free under DMA (gp.rx_dma = 1) and a copy loop under
+ * programmed I/O.  Local-memory blocks have deterministic emulated addresses
+ * (gp_addr.h) and accesses the program declares go through the data cache
+ * (gp_dcache.h).
+ *
+ * Modelled: i860 time from counted operations, the data cache on declared
+ * accesses, local memory capacity, message order, busy/idle time.  Not
+ * modelled: the i860 instruction stream itself, accesses the program does not
+ * declare (taken as hits), interrupts/OS overhead beyond gp.rx_msg_cycles,
+ * contention between the ring port's DMA and the GP on the memory bus. */
 #ifndef PP5_GP_H
 #define PP5_GP_H
 
@@ -18,7 +27,9 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "fw_api.h"
+#include "gp_addr.h"
 #include "gp_cost.h"
+#include "gp_dcache.h"
 #include "pp5_time.h"
 #include "pp5_sched.h"
 
@@ -33,8 +44,11 @@ struct gp_block {
     gp_block_t *next, *prev;
     size_t bytes;                 /* requested (what local memory is charged) */
     size_t capacity_bytes;        /* host bytes after the header (>= bytes when reused) */
+    uint64_t emu_addr;            /* emulated local-memory address (gp_addr.h) */
+    uint32_t magic;               /* GP_BLOCK_MAGIC while live (fw_dcache_access checks it) */
     max_align_t align[];          /* user memory follows, suitably aligned */
 };
+#define GP_BLOCK_MAGIC 0x6770626cu
 
 
 /* One statistic a program published (fw_stat_declare). */
@@ -57,6 +71,10 @@ struct gp {
     gp_cost_t cost;
     pp5_tick_t period_ps;
     uint32_t send_cycles;
+    uint32_t rx_msg_cycles;       /* gp.rx_msg_cycles */
+    bool rx_dma;                  /* gp.rx_dma */
+    gp_dcache_t dcache;           /* the i860's data cache */
+    gp_addr_map_t addr;           /* emulated addresses of the blocks */
 
     pp5_tick_t local_ps;          /* the GP's clock */
     pp5_tick_t busy_ps;
@@ -64,6 +82,7 @@ struct gp {
     pp5_tick_t setup_busy_ps;     /* part of busy_ps spent in machine_run_setup */
     uint64_t setup_busy_cycles;
     fw_ops_t ops_total;
+    fw_ops_t setup_ops;           /* part of ops_total charged in machine_run_setup */
 
     uint64_t mem_capacity_bytes, mem_used_bytes, mem_peak_bytes;
     gp_block_t *blocks;           /* every live allocation, freed at gp_free */

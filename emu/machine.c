@@ -200,7 +200,11 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
         return pp5_fail(PP5_E_NOMEM, "out of memory for %u GPs and %u renderers", p->n_gp, p->n_renderers);
     }
     for (unsigned i = 0; i < m->n_gp; i++) {
-        gp_init(&m->gp[i], i, p, &m->info, &m->sched, machine_gp_send, m);
+        st = gp_init(&m->gp[i], i, p, &m->info, &m->sched, machine_gp_send, m);
+        if (st != PP5_OK) {
+            machine_free(m);
+            return st;
+        }
     }
     for (unsigned i = 0; i < m->n_rn; i++) {
         st = rnode_init(&m->rn[i], i, p, &m->sched, machine_unit_send, m);
@@ -336,6 +340,7 @@ pp5_status_t machine_run_setup(machine_t *m, sched_stop_t *stop)
     for (unsigned i = 0; i < m->n_gp; i++) {
         m->gp[i].setup_busy_ps = m->gp[i].busy_ps;
         m->gp[i].setup_busy_cycles = m->gp[i].busy_cycles;
+        m->gp[i].setup_ops = m->gp[i].ops_total;
     }
     for (unsigned i = 0; i < m->n_rn; i++) {
         m->rn[i].setup_busy_ps = m->rn[i].busy_ps;

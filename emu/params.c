@@ -8,14 +8,14 @@
 #include <string.h>
 
 static const param_info_t param_table[] = {
-#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) \
+#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX, LO, HI) \
     { PARAM_KIND_##KIND, NAME, offsetof(pp5_params_t, FIELD), (double)(DEF), \
-      (double)(MIN), (double)(MAX), UNIT, DESC, CITE },
+      (double)(MIN), (double)(MAX), (double)(LO), (double)(HI), UNIT, DESC, CITE },
 #include "params_machine.def"
 #undef PARAM
-#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) \
+#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX, LO, HI) \
     { PARAM_KIND_##KIND, NAME, offsetof(pp5_params_t, pp.FIELD), (double)(DEF), \
-      (double)(MIN), (double)(MAX), UNIT, DESC, CITE },
+      (double)(MIN), (double)(MAX), (double)(LO), (double)(HI), UNIT, DESC, CITE },
 #include "pp_params.def"
 #undef PARAM
 };
@@ -37,6 +37,11 @@ const param_info_t *params_find(const char *name)
         }
     }
     return NULL;
+}
+
+bool params_has_range(const param_info_t *row)
+{
+    return row->plausible_lo < row->plausible_hi;
 }
 
 static void params_store(pp5_params_t *p, const param_info_t *row, double v)
@@ -159,6 +164,20 @@ pp5_status_t pp5_params_validate(const pp5_params_t *p)
     if (p->fb_height % 128 != 0) {
         return pp5_fail(PP5_E_CONFIG, "parameter fb.height: value %u is not a multiple of the 128-pixel region (range 128..4096)",
                         p->fb_height);
+    }
+    /* The data cache: lines of a power of two, whole sets, sets a power of
+     * two (the set index is a mask of the line number, gp_dcache.h). */
+    uint32_t line = p->i860_dcache_line_bytes, ways = p->i860_dcache_ways;
+    if (line == 0 || (line & (line - 1)) != 0) {
+        return pp5_fail(PP5_E_CONFIG, "parameter i860.dcache_line_bytes: value %u is not a power of two (range 4..4096 bytes)",
+                        line);
+    }
+    uint64_t way_bytes = (uint64_t)line * ways;
+    uint64_t sets = way_bytes ? p->i860_dcache_bytes / way_bytes : 0;
+    if (ways == 0 || sets == 0 || sets * way_bytes != p->i860_dcache_bytes || (sets & (sets - 1)) != 0) {
+        return pp5_fail(PP5_E_CONFIG, "parameters i860.dcache_bytes = %u, i860.dcache_line_bytes = %u, "
+                        "i860.dcache_ways = %u: the cache must hold a power-of-two number of whole "
+                        "sets of ways x line bytes", p->i860_dcache_bytes, line, ways);
     }
     for (size_t i = 0; i < N_PARAMS; i++) {
         double v = params_get(p, &param_table[i]);
@@ -305,8 +324,11 @@ void pp5_params_dump(const pp5_params_t *p, FILE *out)
         const param_info_t *row = &param_table[i];
         char v[64];
         params_format(p, row, v, sizeof v);
-        fprintf(out, "%-28s = %-12s # %s; %s; %s\n", row->name, v, row->unit, row->description,
-                row->citation);
+        char range[96] = "";
+        if (params_has_range(row))
+            snprintf(range, sizeof range, "; plausible %.9g..%.9g", row->plausible_lo, row->plausible_hi);
+        fprintf(out, "%-28s = %-12s # %s; %s; %s%s\n", row->name, v, row->unit, row->description,
+                row->citation, range);
     }
 }
 

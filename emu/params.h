@@ -23,7 +23,7 @@
 #define PARAM_CTYPE_F64 double
 
 typedef struct {
-#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) PARAM_CTYPE_##KIND FIELD;
+#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX, LO, HI) PARAM_CTYPE_##KIND FIELD;
 #include "params_machine.def"
 #undef PARAM
     pp_params_t pp;       /* the renderer/PP rows (pp_params.def) */
@@ -36,6 +36,10 @@ typedef struct {
     const char *name;
     size_t offset;        /* into pp5_params_t */
     double def, min, max; /* every default/limit fits a double exactly */
+    /* Plausible range of the real machine's value (lo <= def <= hi); lo == hi
+     * for a row that is known or is not hardware.  The sensitivity study of
+     * `reproduce projections` varies each ranged row over it. */
+    double plausible_lo, plausible_hi;
     const char *unit;
     const char *description;
     const char *citation;
@@ -45,6 +49,8 @@ typedef struct {
 size_t params_count(void);
 const param_info_t *params_info(size_t i);
 const param_info_t *params_find(const char *name);
+/* Whether the row has a plausible range to vary (plausible_lo < plausible_hi). */
+bool params_has_range(const param_info_t *row);
 
 void pp5_params_default(pp5_params_t *p);
 /* Presets: "default", "gaze1990-literal" (see params.c). */

@@ -18,7 +18,7 @@
 #define PP_PLANE_WORDS   (PP_COUNT / 64u)           /* uint64 words in one bit plane */
 
 typedef struct {
-#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX) uint32_t FIELD;
+#define PARAM(KIND, NAME, FIELD, DEF, UNIT, DESC, CITE, MIN, MAX, LO, HI) uint32_t FIELD;
 #include "pp_params.def"
 #undef PARAM
 } pp_params_t;

@@ -189,14 +189,27 @@ static pp5_status_t collect_gp(stats_t *s, const gp_t *g, double frames_s)
     COUNTER(ticks_to_s(g->setup_busy_ps), "s", "part of busy_s spent during setup", "gp.%u.setup_busy_s", i);
     COUNTER((double)g->msgs_sent, "count", "ring messages sent", "gp.%u.messages_sent", i);
     VALUE((double)g->mem_peak_bytes, "bytes", "peak local memory in use", "gp.%u.mem_peak_bytes", i);
+    VALUE((double)gp_addr_top_peak(&g->addr), "bytes",
+          "highest emulated address of any block (above mem_peak_bytes by alignment and fragmentation)",
+          "gp.%u.mem_addr_peak_bytes", i);
     const fw_ops_t *o = &g->ops_total;
     const struct { const char *name; uint64_t v; } ops[] = {
         {"fadd", o->fadd}, {"fmul", o->fmul}, {"fdiv", o->fdiv}, {"fsqrt", o->fsqrt},
         {"loads", o->loads}, {"stores", o->stores}, {"int_ops", o->int_ops},
-        {"branches", o->branches}, {"ext_bytes", o->ext_bytes},
+        {"branches", o->branches}, {"ext_bytes", o->ext_bytes}, {"load_use", o->load_use},
+        {"dcache_hits", o->dcache_hits}, {"dcache_misses", o->dcache_misses},
+        {"dcache_writebacks", o->dcache_writebacks},
     };
     for (size_t k = 0; k < sizeof ops / sizeof ops[0]; k++)
         COUNTER((double)ops[k].v, "count", "operations charged (fw_ops_t)", "gp.%u.ops.%s", i, ops[k].name);
+    /* The data cache inside frames (setup excluded): line lookups. */
+    const fw_ops_t *su = &g->setup_ops;
+    COUNTER((double)(o->dcache_hits - su->dcache_hits), "count", "data-cache line lookups that hit, inside frames",
+            "gp.%u.frames_dcache_hits", i);
+    COUNTER((double)(o->dcache_misses - su->dcache_misses), "count", "data-cache line lookups that missed, inside frames",
+            "gp.%u.frames_dcache_misses", i);
+    COUNTER((double)(o->dcache_writebacks - su->dcache_writebacks), "count",
+            "written lines evicted (written back), inside frames", "gp.%u.frames_dcache_writebacks", i);
     for (unsigned k = 0; k < g->n_stats; k++)
         add(s, &st, g->stats[k].kind == FW_STAT_COUNTER ? STATS_COUNTER : STATS_VALUE,
             (double)g->stats[k].value, g->stats[k].unit, g->stats[k].meaning, "gp.%u.prog.%s", i,

@@ -289,10 +289,13 @@ static double frame_time(int n_gp, double ring_hz, uint64_t *max_cast_cycles,
     return r.frame_time_s;
 }
 
-/* Every ray is cast once, by exactly one GP, at a cost that depends only on
- * the ray: so the GPs' summed casting cycles cannot depend on the GP count or
- * the ring, the busiest GP holds at least the mean, and the frame cannot end
- * before the busiest GP has cast. */
+/* Every ray is cast once, by exactly one GP, with operations that depend
+ * only on the ray; only its data-cache misses depend on which rays share a
+ * GP.  So the GPs' summed casting cycles are the same for any ring and within
+ * the misses' small share for any GP count (a ray dropped or cast twice
+ * would move the sum by a band's share, 3 % or more here), the busiest GP
+ * holds at least the mean, and the frame cannot end before the busiest GP
+ * has cast. */
 TEST(fw_scaling_sanity)
 {
     static const int counts[] = {4, 8, 16, 32};
@@ -310,7 +313,9 @@ TEST(fw_scaling_sanity)
     double clock = defaults.gp_clock_hz;   /* frame_time leaves the GP clock alone */
     for (int i = 0; i < 4; i++) {
         double mean = (double)sum_c[i] / counts[i];
-        CHECK_EQ(sum_c[i], sum_c[0]);
+        CHECK_MSG(fabs((double)sum_c[i] - (double)sum_c[0]) <= 0.005 * (double)sum_c[0],
+                  "%d GPs: summed casting %llu cycles vs %llu with 4", counts[i],
+                  (unsigned long long)sum_c[i], (unsigned long long)sum_c[0]);
         CHECK_MSG((double)max_c[i] >= mean, "%d GPs: max %llu below the mean %.0f", counts[i],
                   (unsigned long long)max_c[i], mean);
         /* Balanced bands: the busiest GP within 1.6x the mean even at 2 rows a GP. */

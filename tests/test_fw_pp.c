@@ -1,8 +1,7 @@
-/* test_fw_pp.c: the PP shading stream on an emulated renderer equals the integer definition (vr_shade_fixed.h) bit for bit; kernel operation counts. */
+/* test_fw_pp.c: the PP shading stream on an emulated renderer equals the integer definition (vr_shade_fixed.h) bit for bit (the kernels' operation counts are checked in test_fw_cost.c). */
 #include <math.h>
 #include <string.h>
 
-#include "firmware/common/vr_cost.h"
 #include "firmware/common/vr_shade_fixed.h"
 #include "firmware/common/vr_shade_pp.h"
 #include "fw_api.h"
@@ -122,37 +121,4 @@ TEST(fw_fixed_point_shading_error_is_bounded)
     }
     /* normals quantised to 1/511 move N.H by up to ~0.003, times e = 20 */
     CHECK_MSG(worst <= 4.0, "worst specular error %.2f / 255", worst);
-}
-
-/* VR_COST_TRILERP's floating-point counts equal the operations of one
- * trilinear lookup, counted with fw_api.h's helpers on real data (the same
- * arithmetic as the kernel in firmware/gp/vr_gp.c). */
-TEST(fw_trilerp_cost_row_counts_real_operations)
-{
-    fw_ops_t o = {0};
-    float c[8][4];
-    for (int v = 0; v < 8; v++)
-        for (int k = 0; k < 4; k++)
-            c[v][k] = (float)(v * 4 + k) / 37.0f;
-    float p[3] = {3.3f, 1.7f, 2.2f};
-    int n = 1;
-    float q[3], w[3];
-    for (int a = 0; a < 3; a++) {
-        float t = fw_fadd(&o, p[a], 0.5f);                    /* (p + 0.5) */
-        t = fw_fmul(&o, t, 1.0f / (float)(1 << n));            /* / 2^n */
-        q[a] = fw_fsub(&o, t, 0.5f);                           /* - 0.5 */
-        w[a] = fw_fsub(&o, q[a], floorf(q[a]));                /* weight */
-    }
-    float out[4];
-    for (int k = 0; k < 4; k++) {
-        float l[4];
-        for (int e = 0; e < 4; e++)   /* 4 lerps along x */
-            l[e] = fw_fadd(&o, c[2 * e][k], fw_fmul(&o, w[0], fw_fsub(&o, c[2 * e + 1][k], c[2 * e][k])));
-        float e0 = fw_fadd(&o, l[0], fw_fmul(&o, w[1], fw_fsub(&o, l[1], l[0])));
-        float e1 = fw_fadd(&o, l[2], fw_fmul(&o, w[1], fw_fsub(&o, l[3], l[2])));
-        out[k] = fw_fadd(&o, e0, fw_fmul(&o, w[2], fw_fsub(&o, e1, e0)));
-    }
-    CHECK(out[0] >= 0.0f);
-    CHECK_EQ(o.fadd, VR_COST_TRILERP.fadd);
-    CHECK_EQ(o.fmul, VR_COST_TRILERP.fmul);
 }

@@ -14,7 +14,7 @@ static float dot_counted(fw_ops_t *o, const float *a, const float *b, int n)
         fw_branch(o);                  /* loop test */
         fw_int(o, 1);                  /* i++ (pointer bump) */
         float x = fw_fload(o, &a[i]);
-        float y = fw_fload(o, &b[i]);
+        float y = fw_fload_use(o, &b[i]);      /* the multiply needs it next */
         s = fw_fadd(o, s, fw_fmul(o, x, y));
     }
     return s;
@@ -49,10 +49,11 @@ TEST(gp_cost_dot_product_counts_match_an_independent_count)
     fw_ops_t o = {0};
     float got = dot_counted(&o, a, b, 100);
     CHECK_NEAR(got, want, 1e-3);
-    /* Per iteration: 1 mul, 1 add, 2 loads, 1 int op, 1 branch. */
+    /* Per iteration: 1 mul, 1 add, 2 loads (one used at once), 1 int op, 1 branch. */
     CHECK_EQ(o.fmul, 100);
     CHECK_EQ(o.fadd, 100);
     CHECK_EQ(o.loads, 200);
+    CHECK_EQ(o.load_use, 100);
     CHECK_EQ(o.int_ops, 100);
     CHECK_EQ(o.branches, 100);
 
@@ -60,12 +61,13 @@ TEST(gp_cost_dot_product_counts_match_an_independent_count)
     pp5_params_default(&p);
     gp_cost_t c;
     gp_cost_init(&c, &p);
-    /* Table by hand with the defaults (load stall 1, branch bubble 1, no dual
-     * issue): core = 100 + 200*2 + 100*2 = 700; fp = 100 + 100 = 200. */
-    CHECK_EQ(gp_cost_cycles(&c, &o), 900);
-    p.i860_dual_issue = 1;        /* core and FP overlap: max(700, 200) */
+    /* Table by hand with the defaults (load stall 1 per load used at once,
+     * branch bubble 1, no dual issue): core = 100 + 200 + 100*1 + 100*2 =
+     * 600; fp = 100 + 100 = 200. */
+    CHECK_EQ(gp_cost_cycles(&c, &o), 800);
+    p.i860_dual_issue = 1;        /* core and FP overlap: max(600, 200) */
     gp_cost_init(&c, &p);
-    CHECK_EQ(gp_cost_cycles(&c, &o), 700);
+    CHECK_EQ(gp_cost_cycles(&c, &o), 600);
 }
 
 TEST(gp_cost_trilinear_counts_match_an_independent_count)
@@ -84,11 +86,42 @@ TEST(gp_cost_trilinear_counts_match_an_independent_count)
     p.i860_fdiv_cycles = 40;
     gp_cost_t cost;
     gp_cost_init(&cost, &p);
-    /* core = 8 * (1 + 2) = 24; fp = 14 + 7 = 21; sum 45. */
-    CHECK_EQ(gp_cost_cycles(&cost, &o), 45);
+    /* No corner load is used at once (its pair partner and the weight are
+     * independent), so the stall of 2 is never paid: core = 8; fp = 14 + 7
+     * = 21; sum 29. */
+    CHECK_EQ(o.load_use, 0);
+    CHECK_EQ(gp_cost_cycles(&cost, &o), 29);
     fw_ops_t d = { .fdiv = 2, .fsqrt = 1, .ext_bytes = 10 };
     /* 2 * 40 + 31 (default fsqrt) + ceil(10 / 4) = 114 */
     CHECK_EQ(gp_cost_cycles(&cost, &d), 114);
+}
+
+/* The load-use and bus terms of gp_cost.h, worked by hand from the table. */
+TEST(gp_cost_load_use_and_cache_terms_by_hand)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.i860_load_stall_cycles = 2;
+    p.i860_dcache_line_bytes = 32;
+    p.i860_ext_bus_bytes_per_cycle = 4;
+    p.i860_dcache_miss_cycles = 6;
+    gp_cost_t c;
+    gp_cost_init(&c, &p);
+    fw_ops_t o = { .loads = 10, .load_use = 3, .dcache_hits = 7, .dcache_misses = 3,
+                   .dcache_writebacks = 1, .ext_bytes = 10 };
+    /* issue: 10 loads + 3 x 2 stall = 16; bus: ceil(10/4) = 3, 3 misses x
+     * (6 + 32/4) = 42, 1 write-back x 8 = 8: 53; hits cost nothing. */
+    CHECK_EQ(gp_cost_bus_cycles(&c, &o), 53);
+    CHECK_EQ(gp_cost_cycles(&c, &o), 16 + 53);
+    /* A 64-byte line over a 16-byte bus: 4 cycles each; dual issue does not
+     * hide the bus (a fill stalls the i860). */
+    p.i860_dcache_line_bytes = 64;
+    p.i860_dcache_bytes = 8192;
+    p.i860_ext_bus_bytes_per_cycle = 16;
+    p.i860_dual_issue = 1;
+    gp_cost_init(&c, &p);
+    fw_ops_t m = { .fadd = 100, .loads = 20, .dcache_misses = 2, .dcache_writebacks = 2 };
+    CHECK_EQ(gp_cost_cycles(&c, &m), 100 + 2 * (6 + 4) + 2 * 4);
 }
 
 /* ---- programs running on a small machine ---- */
@@ -128,12 +161,12 @@ TEST(gp_program_time_comes_from_charged_operations)
     pp5_status_t st = machine_run_setup(&m, &why);
     CHECK_EQ(st, PP5_OK);
     CHECK_EQ(why, SCHED_STOP_IDLE);
-    /* 64 iterations x 9 cycles (see the dot-product test); local clock
+    /* 64 iterations x 8 cycles (see the dot-product test); local clock
      * starts when the HOST_LOAD arrives. */
-    CHECK_EQ(m.gp[0].busy_cycles, 64 * 9);
-    CHECK_EQ(m.gp[0].busy_ps, 64 * 9 * 25000ull);
+    CHECK_EQ(m.gp[0].busy_cycles, 64 * 8);
+    CHECK_EQ(m.gp[0].busy_ps, 64 * 8 * 25000ull);
     pp5_tick_t arrival = m.gp[0].local_ps - m.gp[0].busy_ps;
-    CHECK_EQ(g_cycles_seen, arrival / 25000 + 64 * 9);
+    CHECK_EQ(g_cycles_seen, arrival / 25000 + 64 * 8);
     /* HOST_LOAD: 1024 image bytes + 8 header = 258 words x 50 ns, 1 hop. */
     CHECK_EQ(arrival, 258ull * 50000 + 50000);
     CHECK_EQ(m.ring.bytes_sent[RING_CLASS_HOST], 1032);
@@ -208,7 +241,7 @@ TEST(gp_send_to_a_missing_node_is_a_firmware_error)
 }
 
 /* Ping-pong: GP 0 sends B bytes to GP 1, which answers; the round trip must
- * equal 2 x (serialisation + hops x hop latency) + GP send costs. */
+ * equal 2 x (serialisation + hops x hop latency) + GP send and receive costs. */
 static pp5_tick_t g_pong_time;
 
 static fw_status_t ping_start(gp_t *gp)
@@ -249,11 +282,12 @@ TEST(gp_ring_ping_pong_round_trip_matches_the_parameters)
     REQUIRE(st == PP5_OK);
     /* GP 0 starts when its load arrives: two 1032-byte loads from the host
      * (258 words each, sequential on the host's transmitter), 1 hop. */
-    pp5_tick_t word = 50000, hop = 5 * word, send = 16 * 25000ull;
+    pp5_tick_t word = 50000, hop = 5 * word, send = 16 * 25000ull, rx = p.gp_rx_msg_cycles * 25000ull;
     pp5_tick_t gp0_start = 2 * 258 * word + 1 * hop;
     /* Ring positions: host 0, GP0 1, GP1 2, renderer 3, FB 4 (5 nodes):
-     * GP0 -> GP1 is 1 hop, GP1 -> GP0 is 4 hops. */
-    pp5_tick_t want = gp0_start + send + 100 * word + 1 * hop + send + 100 * word + 4 * hop;
+     * GP0 -> GP1 is 1 hop, GP1 -> GP0 is 4 hops.  Each GP takes its message
+     * off the port (gp.rx_msg_cycles) before its program sees it. */
+    pp5_tick_t want = gp0_start + send + 100 * word + 1 * hop + rx + send + 100 * word + 4 * hop + rx;
     CHECK_EQ(g_pong_time, want);
     machine_free(&m);
 }

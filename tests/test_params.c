@@ -132,3 +132,61 @@ TEST(params_machine_command_prints_both_ring_bandwidths)
     free(text);
     CHECK(pp5_test_run_cli("machine --set ring.channels=99", NULL, NULL) != 0);
 }
+
+/* Every [U] and [I] row carries a plausible range for the sensitivity study,
+ * inside what the model accepts and around its default, justified in its
+ * citation; known and run-control rows carry none. */
+TEST(params_uncertain_rows_have_a_justified_plausible_range)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    int ranged = 0;
+    for (size_t i = 0; i < params_count(); i++) {
+        const param_info_t *r = params_info(i);
+        bool uncertain = contains(r->citation, "[U]") || contains(r->citation, "[I]");
+        double v = params_get(&p, r);
+        CHECK_MSG(r->min <= r->plausible_lo && r->plausible_lo <= v && v <= r->plausible_hi &&
+                      r->plausible_hi <= r->max,
+                  "%s: plausible %g..%g must lie in %g..%g around the default %g", r->name,
+                  r->plausible_lo, r->plausible_hi, r->min, r->max, v);
+        if (uncertain)
+            CHECK_MSG(params_has_range(r) && contains(r->citation, "range"),
+                      "%s is [U]/[I]: needs a plausible range, justified in its citation", r->name);
+        if (!params_has_range(r))
+            CHECK_MSG(r->plausible_lo == v && r->plausible_hi == v, "%s: no range means lo = hi = default",
+                      r->name);
+        if (r->kind != PARAM_KIND_F64)
+            CHECK_MSG(r->plausible_lo == floor(r->plausible_lo) && r->plausible_hi == floor(r->plausible_hi),
+                      "%s: an integer row needs integer bounds", r->name);
+        ranged += params_has_range(r);
+        /* Each end is itself a valid machine. */
+        if (params_has_range(r)) {
+            char lo[64], hi[64];
+            snprintf(lo, sizeof lo, "%.17g", r->plausible_lo);
+            snprintf(hi, sizeof hi, "%.17g", r->plausible_hi);
+            pp5_params_t q = p;
+            CHECK_MSG(pp5_params_set(&q, r->name, lo) == PP5_OK, "%s = %s: %s", r->name, lo, pp5_error_text());
+            q = p;
+            CHECK_MSG(pp5_params_set(&q, r->name, hi) == PP5_OK, "%s = %s: %s", r->name, hi, pp5_error_text());
+        }
+    }
+    const param_info_t *dma = params_find("gp.rx_dma");
+    REQUIRE(dma != NULL);
+    CHECK_EQ(dma->plausible_lo, 0);
+    CHECK_EQ(dma->plausible_hi, 1);
+    CHECK(!params_has_range(params_find("i860.dcache_bytes")));   /* [C] 8 KB */
+    CHECK(ranged >= 30);
+}
+
+TEST(params_machine_command_shows_plausible_ranges)
+{
+    char out[512];
+    snprintf(out, sizeof out, "%s/m_ranges.txt", pp5_test_outdir());
+    REQUIRE(pp5_test_run_cli("machine", out, NULL) == 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text != NULL);
+    CHECK(contains(text, "i860.dcache_line_bytes"));
+    CHECK(contains(text, "plausible: 16 .. 64"));
+    CHECK(contains(text, "plausible: 0 .. 1"));
+    free(text);
+}

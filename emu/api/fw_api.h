@@ -38,8 +38,12 @@ typedef int fw_status_t;
 typedef struct gp gp_t;     /* opaque to firmware: one graphics processor */
 
 /* Operation counts of a piece of work.  Single-precision FP unless named
- * otherwise; loads/stores are to the D-cache; ext_bytes are bytes moved over
- * the i860's external bus (cache misses, streaming data). */
+ * otherwise.  loads/stores are instructions: each costs its issue clock, a
+ * load whose value the next instruction uses at once (load_use) also the
+ * load-use delay.  Whether the data were in the data cache is declared apart
+ * (fw_dcache_access), as line lookups: hits cost nothing more, misses and
+ * write-backs pay the external bus.  ext_bytes are other bytes moved over the
+ * external bus (programmed I/O from the ring port). */
 typedef struct {
     uint64_t fadd;       /* FP add/subtract/compare (adder pipeline) */
     uint64_t fmul;       /* FP multiply (multiplier pipeline) */
@@ -49,7 +53,11 @@ typedef struct {
     uint64_t stores;     /* integer or FP stores */
     uint64_t int_ops;    /* integer ALU, shifts, address arithmetic, moves */
     uint64_t branches;   /* taken or not-taken branches, calls, returns */
-    uint64_t ext_bytes;  /* bytes over the external bus */
+    uint64_t ext_bytes;  /* bytes over the external bus outside cache fills (port reads) */
+    uint64_t load_use;   /* of the loads, those whose value the next instruction needs */
+    uint64_t dcache_hits;       /* data-cache line lookups that hit */
+    uint64_t dcache_misses;     /* ... that missed: a line fill over the external bus */
+    uint64_t dcache_writebacks; /* written lines evicted by a miss: a line over the bus */
 } fw_ops_t;
 
 /* What a program may know about the machine it runs on. */
@@ -92,6 +100,30 @@ uint64_t fw_mem_used_bytes(const gp_t *gp);
 
 /* Charge work: the GP's local clock advances by gp_cost_cycles(ops). */
 void fw_charge(gp_t *gp, const fw_ops_t *ops);
+
+/* The data cache (emu/gp_dcache.h: i860.dcache_* parameters).  The program
+ * declares an access of `bytes` at `offset` inside a block that fw_alloc
+ * returned (`block_base`, the pointer fw_alloc gave, never a pointer into
+ * it); the lookups of the lines it touches are added to ops->dcache_hits,
+ * dcache_misses and dcache_writebacks, which fw_charge turns into bus
+ * cycles.  Every block has an emulated address (deterministic, from the
+ * order of fw_alloc/fw_free), so the outcome never depends on the host.  A
+ * block that fw_alloc did not return, or a range outside it, is a firmware
+ * error.  Accesses not declared count as hits (small tables, state). */
+void fw_dcache_access(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset,
+                      size_t bytes, int is_store);
+
+/* Ring delivery.  Every received message costs the GP gp.rx_msg_cycles
+ * when it is handed to on_message (taking it off the port: [U] facts open
+ * question 5).  A program that keeps a payload (copies it into local memory
+ * at block_base + offset, block_base from fw_alloc, or NULL when it uses the
+ * payload where the port left it) declares the bytes with fw_rx_deposit,
+ * which adds what getting them there cost: nothing more when the ring port
+ * writes memory itself (gp.rx_dma = 1; the lines it overwrote leave the data
+ * cache), and under programmed I/O (gp.rx_dma = 0) the copy loop: per 32-bit
+ * word a load from the port (4 bytes over the external bus) and a store
+ * through the data cache, plus a loop test per 4 words. */
+void fw_rx_deposit(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset, size_t bytes);
 /* The GP's local clock in i860 cycles since power-on, and in picoseconds. */
 uint64_t fw_cycles(const gp_t *gp);
 uint64_t fw_time_ps(const gp_t *gp);
@@ -129,6 +161,13 @@ static inline float fw_fsub(fw_ops_t *o, float a, float b) { o->fadd++; return a
 static inline float fw_fmul(fw_ops_t *o, float a, float b) { o->fmul++; return a * b; }
 static inline float fw_fdiv(fw_ops_t *o, float a, float b) { o->fdiv++; return a / b; }
 static inline float fw_fload(fw_ops_t *o, const float *p) { o->loads++; return *p; }
+/* A load whose value the next instruction uses at once (gp_cost.h). */
+static inline float fw_fload_use(fw_ops_t *o, const float *p)
+{
+    o->loads++;
+    o->load_use++;
+    return *p;
+}
 static inline void fw_fstore(fw_ops_t *o, float *p, float v) { o->stores++; *p = v; }
 static inline int32_t fw_iload(fw_ops_t *o, const int32_t *p) { o->loads++; return *p; }
 static inline void fw_istore(fw_ops_t *o, int32_t *p, int32_t v) { o->stores++; *p = v; }

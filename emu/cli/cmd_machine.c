@@ -14,7 +14,8 @@ static void machine_usage(FILE *out)
             "usage: pp5 machine [--preset NAME] [--config FILE] [--set NAME=VALUE]... [--dump-config]\n\n"
             "Prints every Pixel-Planes 5 machine parameter with its value, unit, meaning and\n"
             "source (certainty tag [C]onfirmed/[S]econdary/[I]nferred/[U]nverified + citation of\n"
-            "../shared/docs/pxpl5-facts.md), then the derived ring bandwidth.\n\n"
+            "../shared/docs/pxpl5-facts.md), the plausible range of every uncertain row (what a\n"
+            "sensitivity study varies), then the derived ring bandwidth.\n\n"
             PP5_PARAMS_CLI_HELP
             "  --dump-config     print the parameters as a file that --config can load\n"
             "  --help            this text\n");
@@ -71,6 +72,9 @@ static int cmd_machine(int argc, char **argv)
         params_format(&p, row, v, sizeof v);
         printf("%-30s %14s  %-16s %s\n", row->name, v, row->unit, row->description);
         printf("%-30s %14s  %-16s   source: %s\n", "", "", "", row->citation);
+        if (params_has_range(row))
+            printf("%-30s %14s  %-16s   plausible: %.9g .. %.9g\n", "", "", "", row->plausible_lo,
+                   row->plausible_hi);
     }
     int n_cost;
     const gp_cost_row_t *cost = gp_cost_table(&n_cost);

@@ -38,9 +38,10 @@ static void sweep_usage(FILE *out)
             "                 [--lighting diffuse|specular] [--preset NAME]\n\n"
             "Runs one frame of the gaze-directed renderer on the emulated machine for every\n"
             "point of a grid of parameters and writes a CSV (frame time, its critical-path\n"
-            "phases, rays, samples, ring bytes, utilisation and GP imbalance) and a PNG of\n"
-            "frame time against the grid, stacked by phase, so you see where the machine\n"
-            "saturates and how the work divisions compare.\n\n"
+            "phases, rays, samples, ring bytes, utilisation, GP imbalance and the GPs'\n"
+            "data-cache line lookups) and a PNG of frame time against the grid, stacked by\n"
+            "phase, so you see where the machine saturates and how the work divisions\n"
+            "compare.  The console shows each point's data-cache hit rate (D-cache).\n\n"
             "  --set KEY=V1,V2,...  a machine parameter (see `pp5 machine`: gp.count,\n"
             "                       renderer.count, ring.channels, ring.clock_hz, gp.clock_hz,\n"
             "                       renderer.clock_hz, ...) or a firmware setting: division=\n"
@@ -203,11 +204,16 @@ static void csv_header(FILE *csv, const sweep_t *sw)
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(csv, ",%s", fw_phase_key((fw_phase_t)k));
     fprintf(csv, ",rays,samples,ring_bytes,ring_data_bytes,ring_pixel_bytes,ring_util,gp_util_mean,"
-                 "gp_util_max,gp_imbalance,renderer_util_mean,bottleneck\n");
+                 "gp_util_max,gp_imbalance,renderer_util_mean,gp_dcache_hits,gp_dcache_misses,bottleneck\n");
 }
 
+/* The GPs' data-cache line lookups of a frame (emu/gp_dcache.h). */
+typedef struct {
+    uint64_t hits, misses;
+} sweep_cache_t;
+
 static void csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t rst,
-                    const fw_frame_result_t *r)
+                    const fw_frame_result_t *r, const sweep_cache_t *dc)
 {
     for (int a = 0; a < sw->n_axes; a++)
         fprintf(csv, "%s,", sw->axes[a].values[idx[a]]);
@@ -216,29 +222,36 @@ static void csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t r
         fprintf(csv, "nan");
         for (int k = 0; k < FW_PHASE_COUNT; k++)
             fprintf(csv, ",nan");
-        fprintf(csv, ",0,0,0,0,0,0,0,0,0,0,\"error: %s\"\n", pp5_error_text());
+        fprintf(csv, ",0,0,0,0,0,0,0,0,0,0,0,0,\"error: %s\"\n", pp5_error_text());
         return;
     }
     fprintf(csv, "%.9g", r->frame_time_s);
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(csv, ",%.9g", r->phase_s[k]);
-    fprintf(csv, ",%llu,%llu,%llu,%llu,%llu,%.6f,%.6f,%.6f,%.6f,%.6f,\"%s\"\n",
+    fprintf(csv, ",%llu,%llu,%llu,%llu,%llu,%.6f,%.6f,%.6f,%.6f,%.6f,%llu,%llu,\"%s\"\n",
             (unsigned long long)r->rays, (unsigned long long)r->samples,
             (unsigned long long)r->ring_bytes_total,
             (unsigned long long)r->ring_bytes[RING_CLASS_DATA],
             (unsigned long long)r->ring_bytes[RING_CLASS_PIXELS], r->ring_util_total,
-            r->gp_util_mean, r->gp_util_max, r->gp_imbalance, r->rn_util_mean, r->bottleneck);
+            r->gp_util_mean, r->gp_util_max, r->gp_imbalance, r->rn_util_mean,
+            (unsigned long long)dc->hits, (unsigned long long)dc->misses, r->bottleneck);
 }
 
 /* One frame of the job on the machine of point pt. */
 static pp5_status_t run_point(const sweep_t *sw, const render_job_t *job, const pp5_params_t *p,
-                              const fw_options_t *o, fw_frame_result_t *r)
+                              const fw_options_t *o, fw_frame_result_t *r, sweep_cache_t *dc)
 {
     fw_session_t s;
     memset(r, 0, sizeof *r);
+    memset(dc, 0, sizeof *dc);
     pp5_status_t st = fw_session_init(&s, job, p, o);
     if (st == PP5_OK)
         st = fw_session_frame(&s, 0.5 * (sw->w - 1), 0.5 * (sw->h - 1), NULL, r);
+    for (unsigned g = 0; st == PP5_OK && g < s.m.n_gp; g++) {
+        const gp_t *gp = &s.m.gp[g];
+        dc->hits += gp->ops_total.dcache_hits - gp->setup_ops.dcache_hits;
+        dc->misses += gp->ops_total.dcache_misses - gp->setup_ops.dcache_misses;
+    }
     fw_session_free(&s);
     return st;
 }
@@ -279,16 +292,19 @@ static pp5_status_t run_grid(const sweep_t *sw, const render_job_t *job, FILE *c
         if ((st = point_config(sw, pt, idx, &p, &o, labels[pt], sizeof labels[pt])) != PP5_OK)
             break;
         fw_frame_result_t r;
-        pp5_status_t rst = run_point(sw, job, &p, &o, &r);
-        csv_row(csv, sw, idx, rst, &r);
+        sweep_cache_t dc;
+        pp5_status_t rst = run_point(sw, job, &p, &o, &r, &dc);
+        csv_row(csv, sw, idx, rst, &r, &dc);
         xs[pt] = pt;
         if (rst != PP5_OK) {
             printf("  %-24s error: %s\n", labels[pt], pp5_error_text());
             continue;
         }
-        printf("  %-24s %9.2f ms  %6.2f f/s  ring %7.2f MB  GP max/mean %.2f  bottleneck: %s\n",
+        uint64_t lookups = dc.hits + dc.misses;
+        printf("  %-24s %9.2f ms  %6.2f f/s  ring %7.2f MB  GP max/mean %.2f  D-cache %5.1f %%  "
+               "bottleneck: %s\n",
                labels[pt], r.frame_time_s * 1e3, 1.0 / r.frame_time_s, r.ring_bytes_total / 1e6,
-               r.gp_imbalance, r.bottleneck);
+               r.gp_imbalance, lookups ? 100.0 * (double)dc.hits / (double)lookups : 0.0, r.bottleneck);
         for (int k = 0; k < FW_PHASE_COUNT; k++)
             ph[(size_t)k * sw->points + pt] = r.phase_s[k] * 1e3;
     }

@@ -1,95 +1,267 @@
-/* vr_cost.h: i860 operation counts of one execution of each inner kernel of the volume-rendering GP program.
+/* vr_cost.h: i860 operation counts of the volume-rendering GP program's kernels, one row per straight-line span of a kernel, and the counting that checks them.
  *
- * The ray caster counts kernel executions in local integers (no per-sample
- * call overhead) and converts them with these rows at the end of each ray
- * batch.  Each row is the count of operations the C kernel in
- * firmware/gp/vr_gp.c performs (read off the code, statement by statement);
- * tests/test_fw_pp.c (fw_trilerp_cost_row_counts_real_operations) re-counts the
- * trilinear kernel's floating-point operations with the counting
- * helpers of fw_api.h on real data and requires equality.  Rows are
- * {fadd, fmul, fdiv, fsqrt, loads, stores, int_ops, branches}. */
+ * How the cost is charged.  Every kernel (firmware/gp/vr_*_kernels.h,
+ * common/vr_kernels.h, common/vr_shade_fixed.h) is cut into spans: pieces of
+ * code that always execute the same operations (a loop body, the taken side
+ * of a branch, one libm call).  Each span has a row below.  In production a
+ * kernel only counts how often each span ran (VR_SPAN into a vr_spans_t, one
+ * integer increment) and the caller converts the counts with these rows at
+ * the end of a batch (vr_spans_charge).
+ *
+ * How the rows are checked.  Next to its code every span also states the
+ * operations it performs, statement by statement (VR_SPAN / VR_COUNT with the
+ * literal counts), into a vr_count_t that the caller passes; production
+ * passes NULL, so the compiler drops those statements when it inlines the
+ * kernel.  tests/test_fw_cost.c runs each kernel on real data with counting
+ * on and requires, for every row and every column, the operations the
+ * kernel's spans stated to equal (times the span ran) x (the row): a kernel
+ * edited without its row, or a span whose operations vary with the data,
+ * fails there.
+ *
+ * Counting conventions (the i860 of facts §8; firmware/ARCHITECTURE.md
+ * "Cost model notes"): FP add, subtract and compare are fadd; a divide by a
+ * power of two is a multiply by a table entry (fmul); int<->float
+ * conversions, floorf/ceilf, fabsf and isfinite are one integer op each;
+ * integer multiplies and divides by a per-level constant are one integer op
+ * each (the i860 has neither: [I] a reciprocal table); an ordering compare is
+ * an op plus a branch, a test against zero or equality only the branch
+ * (bte/btne); a select or clamp counts both of its compares whatever the
+ * data; a load is load_use when the next instruction needs its value and no
+ * independent work can fill the delay (gp_cost.h).  Data-cache lookups are
+ * not in the rows: the kernels declare their accesses to big blocks with
+ * fw_dcache_access (vr_mem_t) and the misses are charged as such. */
 #ifndef PP5_VR_COST_H
 #define PP5_VR_COST_H
 
 #include <stdint.h>
+#include <string.h>
 #include "fw_api.h"
 
 typedef struct {
-    uint32_t fadd, fmul, fdiv, fsqrt, loads, stores, int_ops, branches;
+    uint32_t fadd, fmul, fdiv, fsqrt, loads, load_use, stores, int_ops, branches;
 } vr_cost_row_t;
 
-/* Trilinear lookup of 4 components from 8 byte-packed voxels of bricks:
- * level coordinates (6 fadd, 3 fmul: (p+0.5)*2^-n - 0.5), floor and
- * weights (3 floor as int ops, 3 fadd), clamps (12 int ops, 12 branches),
- * brick/offset for the 2 x 3 axis indices (12 int div/mod as int ops, 6 mul),
- * 8 brick pointer loads + 8 word loads, 32 LUT loads, 7 lerps x 4
- * components = 28 x (2 fadd + 1 fmul). */
-static const vr_cost_row_t VR_COST_TRILERP = {6 + 3 + 56, 3 + 28, 0, 0, 8 + 8 + 32, 0,
-                                              3 + 12 + 12 + 6 + 8, 12};
-/* Object slabs: one probe of the binary search for a ray's first or last
- * sample in the slab: t = t0 + k * base and z at it (2 fadd, 2 fmul, 1
- * int->float), round and floor, compare, halve the interval. */
-static const vr_cost_row_t VR_COST_SEGMENT_PROBE = {2 + 1, 2, 0, 0, 0, 0, 2 + 4, 2};
-/* Object slabs: compositing one partial colour into a texel, front to back:
- * load it (5 words) and the accumulator (4), 1 - a (1 fadd), 4 x (1 fmul +
- * 1 fadd), store the accumulator. */
-static const vr_cost_row_t VR_COST_MERGE = {1 + 4, 4, 0, 0, 9, 4, 3, 2};
-/* Blend of two levels: 4 x (2 fadd + 1 fmul), 1 compare. */
-static const vr_cost_row_t VR_COST_LEVEL_BLEND = {8 + 1, 4, 0, 0, 0, 0, 2, 1};
-/* One sample's bookkeeping: position (3 fadd + 3 fmul), loop test, step
- * (1 fadd + 1 fmul + 1 int), 3DLevel compare. */
-static const vr_cost_row_t VR_COST_SAMPLE = {3 + 2, 3 + 1, 0, 0, 0, 0, 2, 3};
-/* Octree leaf lookup: 3 level coords (3 fadd, 3 fmul), 3 floor+clamp,
- * index (4 int), bit load and test. */
-static const vr_cost_row_t VR_COST_OCT_LEAF = {3, 3, 0, 0, 1, 0, 3 + 6 + 4 + 2, 4};
-/* One step up the OR pyramid: 3 shifts, index, load, test. */
-static const vr_cost_row_t VR_COST_OCT_UP = {0, 0, 0, 0, 1, 0, 3 + 4 + 2, 2};
-/* Skip: node bounds (6 x (1 fadd + 1 fmul)), exit t per axis (3 fdiv, 3
- * fadd), min, ceil, sample index update. */
-static const vr_cost_row_t VR_COST_SKIP = {6 + 3 + 4, 6 + 1, 3, 0, 0, 0, 8, 8};
-/* Opacity correction (LUT: 2 loads, 3 fadd/fmul, 1 fdiv for scale, 3 fmul)
- * and front-to-back compositing (1 fadd + 3 x (1 fadd + 1 fmul) + 1 fadd +
- * 1 fmul) and the termination compare. */
-static const vr_cost_row_t VR_COST_COMPOSITE = {2 + 1 + 8 + 1, 1 + 3 + 4, 1, 0, 2, 0, 3, 3};
-/* Ray setup: camera ray (6 fadd/fmul + 9 fmadd), clip (6 fdiv, 12 fadd),
- * voxel-space origin/direction (6 fmul), half vector unused (stride 4). */
-static const vr_cost_row_t VR_COST_RAY = {4 + 9 + 12 + 3, 2 + 9 + 6, 6, 0, 12, 3, 10, 12};
-/* RenderPixel: two bilinear lookups (3 x (2 fadd + 1 fmul) + weights) and
- * the level blend, float->u8 conversion x 3. */
-static const vr_cost_row_t VR_COST_PIXEL = {2 * (6 + 2) + 6, 2 * (3 + 2) + 3 + 3, 0, 0, 2 * 12, 3,
-                                            2 * 8 + 9, 2 * 4 + 6};
-/* 2DLevel of one pixel without transcendentals: dx, dy, dx^2 + dy^2, sqrt,
- * 2 compares. */
-static const vr_cost_row_t VR_COST_LEVEL = {3, 2, 0, 1, 0, 1, 2, 3};
-/* 2DLevel by the paper's tables (vr_level_tabled): two offsets and their
- * absolute values (4 int, 2 branches), the 2D index (2 int) and its load,
- * the 1D index compare and its load. */
-static const vr_cost_row_t VR_COST_LEVEL_TABLE = {0, 0, 0, 0, 2, 1, 6 + 1, 3};
-/* One entry of the 2D distance table at setup: dx^2 + dy^2 (2 fmul, 1 fadd),
- * sqrt, scale and round (1 fmul, 1 fadd, 1 int), store. */
-static const vr_cost_row_t VR_COST_TABLE_DIST = {2, 3, 0, 1, 0, 1, 3, 1};
-/* The transcendental branch of 2DLevel (atan, exp, log2 by libm-style
- * polynomial evaluation): [I] ~20 fadd + 20 fmul + 2 fdiv each. */
-static const vr_cost_row_t VR_COST_LEVEL_TRANS = {60, 60, 6, 0, 12, 0, 10, 10};
-/* Texel marking per pixel: 2 shifts, 2 masks, up to 4 flag stores. */
-static const vr_cost_row_t VR_COST_MARK = {0, 0, 0, 0, 0, 4, 8, 4};
-/* Level-0 voxel of the mip-map build: 3 central differences (6 loads, 3 fadd,
- * 3 fdiv, 3 fmul), |g| (3 fmul, 2 fadd, 1 fsqrt), one contour (~8 flops,
- * 1 fdiv) per contour counted separately, normal (3 fdiv), diffuse
- * (3 fmul + 3 fadd), 4..7 products and stores. */
-static const vr_cost_row_t VR_COST_VOXEL = {3 + 2 + 3 + 2, 3 + 3 + 3 + 7, 3 + 3, 1, 6, 8, 20, 8};
-static const vr_cost_row_t VR_COST_CONTOUR = {5, 4, 1, 0, 5, 0, 2, 3};
-/* Box-filter output voxel: 8 children x stride loads and adds, stride fmul. */
-static const vr_cost_row_t VR_COST_FILTER_COMPONENT = {8, 1, 0, 0, 8, 1, 9, 9};
-/* Quantise one voxel to blocks A (+N): 4 (7) clamps/rounds, a normal
- * renormalisation (3 fmul, 2 fadd, 1 fsqrt, 3 fdiv), packing. */
-static const vr_cost_row_t VR_COST_QUANTISE = {4 + 2, 4 + 6, 3, 1, 7, 2, 20, 10};
-/* GP-side fixed-point shading of one voxel (the GP split): 3 integer
- * multiplies + adds, abs, (bits of e) x 2 multiplies, 2 multiplies, 3
- * saturating adds; about 40 integer ops and 10 branches at exponent 20. */
-static const vr_cost_row_t VR_COST_SHADE_VOXEL = {0, 0, 0, 0, 2, 1, 40, 10};
-/* Unpacking one received word into the brick cache. */
-static const vr_cost_row_t VR_COST_UNPACK_WORD = {0, 0, 0, 0, 1, 1, 1, 0};
+/* X(ID, row, what): the rows.  Derivations are in the comments beside each
+ * span's code; a row is the sum of its span's VR_SPAN/VR_COUNT statements. */
+#define VR_COST_ROWS(X) \
+    /* ---- ray casting (firmware/gp/vr_cast_kernels.h, common/vr_kernels.h) ---- */ \
+    X(RAY, (.fadd = 11, .fmul = 11, .loads = 13, .branches = 1), \
+      "a camera ray, parallel projection") \
+    X(RAY_PERSPECTIVE, (.fadd = 14, .fmul = 11, .fdiv = 3, .fsqrt = 1, .loads = 13, .branches = 1), \
+      "a camera ray, perspective projection") \
+    X(CLIP_AXIS, (.fadd = 6, .fdiv = 2, .loads = 1, .branches = 4), \
+      "box clip: an axis the ray crosses") \
+    X(CLIP_FLAT, (.fadd = 3, .loads = 1, .branches = 3), \
+      "box clip: an axis the ray runs parallel to") \
+    X(CLIP_END, (.fadd = 2, .branches = 2), \
+      "box clip: the entry clamped, entry against exit") \
+    X(RAY_MISS, (.stores = 3, .branches = 1), \
+      "a new ray that misses the volume: black texel") \
+    X(RAY_START, (.fmul = 6, .loads = 3, .branches = 2), \
+      "a ray that meets the volume: voxel-space origin and direction") \
+    X(RAY_NEAR, (.fadd = 1, .branches = 1), \
+      "perspective: the ray starts no nearer than 1e-3") \
+    X(RAY_RESUME, (.fadd = 1, .fmul = 1, .loads = 6, .int_ops = 1, .branches = 1), \
+      "a ray resumed in the next depth segment: its parked state") \
+    X(RAY_PARK, (.stores = 6), \
+      "a ray parked at the end of a depth segment") \
+    X(RAY_END, (.stores = 3), \
+      "a finished ray: its colour into the texel") \
+    X(SAMPLE, (.fadd = 5, .fmul = 3, .branches = 4), \
+      "one step of the ray loop (sampled or skipped): tests, position") \
+    X(SAMPLE_PERSPECTIVE, (.fadd = 3, .fmul = 1, .branches = 2), \
+      "perspective: the step's spacing and 3D level (its log2 is a LIBM)") \
+    X(OCT_LEAF, (.fadd = 13, .fmul = 3, .loads = 7, .load_use = 1, .int_ops = 23, .branches = 10), \
+      "octree: the leaf cell of the position and its bit") \
+    X(OCT_UP, (.loads = 4, .load_use = 1, .int_ops = 14, .branches = 2), \
+      "octree: one step up the OR pyramid") \
+    X(OCT_TOP, (.int_ops = 2, .branches = 1), \
+      "octree: the steps reached the top of the pyramid") \
+    X(SKIP, (.fadd = 12, .fmul = 6, .loads = 1, .int_ops = 21, .branches = 6), \
+      "an empty node: its height and bounds") \
+    X(SKIP_EXIT, (.fadd = 10, .int_ops = 6, .branches = 16), \
+      "an empty node: where the ray leaves it, against the ray's end") \
+    X(SKIP_DIVIDE, (.fadd = 1, .fdiv = 1), \
+      "the exit parameter of an axis bounded inside the volume") \
+    X(SKIP_PARALLEL, (.fadd = 3, .fmul = 1, .fdiv = 1, .int_ops = 5, .branches = 2), \
+      "parallel: the sample index after the skip") \
+    X(SKIP_PERSPECTIVE, (.fadd = 3, .fdiv = 1, .int_ops = 3, .branches = 3), \
+      "perspective: where the ray's 3D level changes (its exp2 is a LIBM)") \
+    X(SKIP_STEP, (.fadd = 2, .fmul = 1, .branches = 2), \
+      "perspective: one sample position skipped") \
+    X(POINT, (.fadd = 5, .int_ops = 4, .branches = 5), \
+      "a sampled position: 3D level split, blend test, opacity test") \
+    X(STEP, (.fadd = 1, .fmul = 1, .int_ops = 2, .branches = 1), \
+      "parallel: the next sample position") \
+    X(STEP_PERSPECTIVE, (.fmul = 1, .branches = 1), \
+      "perspective: the next sample position") \
+    X(TRILERP, (.fadd = 65, .fmul = 31, .loads = 18, .load_use = 8, .int_ops = 91, .branches = 20), \
+      "trilinear lookup of 4 components: coordinates, clamps, the 8 corners' units, 7 lerps x 4") \
+    X(CORNER, (.loads = 5, .load_use = 1, .int_ops = 11), \
+      "a corner in a fetched unit: its word and 4 byte-to-float lookups") \
+    X(LEVEL_BLEND, (.fadd = 8, .fmul = 4), \
+      "blend of the two 3D levels' lookups") \
+    X(CORRECT, (.fadd = 1, .fmul = 3, .fdiv = 1, .branches = 1), \
+      "opacity correction: a >= 1 test, colour rescaled") \
+    X(CORRECT_LUT, (.fadd = 3, .fmul = 2, .loads = 2, .load_use = 1, .int_ops = 7, .branches = 3), \
+      "opacity correction by the table of the 2D level") \
+    X(CORRECT_POW, (.fadd = 2, .int_ops = 1, .branches = 2), \
+      "opacity correction by powf (perspective, deep levels; the powf is a LIBM)") \
+    X(COMPOSITE, (.fadd = 7, .fmul = 4, .branches = 2), \
+      "front-to-back compositing and the early-termination test") \
+    X(LIBM, (.fadd = 20, .fmul = 20, .fdiv = 2, .loads = 4, .int_ops = 3, .branches = 3), \
+      "[I] one libm-style transcendental (atan, exp, exp2, log2, pow): range reduction and a polynomial") \
+    X(SHADE_WORD, (.loads = 2, .load_use = 1, .stores = 1, .int_ops = 3, .branches = 1), \
+      "GP split: one word of a fetched unit shaded in place") \
+    X(SHADE_VOXEL, (.int_ops = 47, .branches = 10), \
+      "GP split: specular shading of one voxel, fixed point (vr_shade_fixed.h)") \
+    X(SHADE_TOP, (.int_ops = 3, .branches = 1), \
+      "GP split: one bit of the exponent above its top bit") \
+    X(SHADE_SQUARE, (.int_ops = 6, .branches = 2), \
+      "GP split: one squaring of the specular power") \
+    X(SHADE_MULTIPLY, (.int_ops = 3), \
+      "GP split: one multiply of the specular power (a set exponent bit)") \
+    X(SHADE_DIFFUSE, (.int_ops = 55, .branches = 9), \
+      "GP split, moving object: the per-frame diffuse term") \
+    /* ---- object slabs (firmware/gp/vr_slab_kernels.h) ---- */ \
+    X(SEGMENT, (.fadd = 2, .loads = 3, .int_ops = 4, .branches = 1), \
+      "a needed texel's ray through the slab: its pixel position") \
+    X(SEGMENT_START, (.fadd = 5, .fmul = 8, .fdiv = 1, .loads = 3, .int_ops = 17, .branches = 7), \
+      "a segment: voxel-space ray, sample count, both searches' set-up, the end") \
+    X(SEGMENT_PROBE, (.fadd = 3, .fmul = 2, .int_ops = 10, .branches = 5), \
+      "a segment: one probe of the binary search for its first or last sample") \
+    X(SEGMENT_HIT, (.fadd = 1, .fmul = 1, .loads = 2, .int_ops = 1), \
+      "a segment with samples: the ray set at its first one") \
+    X(SEGMENT_KEEP, (.branches = 4), \
+      "a segment cast: does it add colour or opacity") \
+    X(SEGMENT_OUT, (.loads = 1, .stores = 5), \
+      "a segment kept: its partial colour stored") \
+    X(MERGE, (.loads = 1, .int_ops = 2, .branches = 2), \
+      "a partial colour received: its texel code checked") \
+    X(MERGE_ADD, (.fadd = 5, .fmul = 4, .loads = 8, .load_use = 1, .stores = 4, .int_ops = 2), \
+      "a partial colour composited behind the texel's accumulator") \
+    X(NEED_COUNT, (.loads = 1, .int_ops = 7, .branches = 1), \
+      "a need set received: one bit counted") \
+    X(NEED_LEVEL, (.loads = 4, .int_ops = 2, .branches = 1), \
+      "a need set unpacked: one 2D level's geometry") \
+    X(NEED_TEST, (.loads = 1, .int_ops = 6, .branches = 2), \
+      "a need set unpacked: one bit tested") \
+    X(NEED_REF, (.stores = 4, .int_ops = 5), \
+      "a need set unpacked: one texel's reference") \
+    X(NEED_ROW, (.loads = 5, .int_ops = 8, .branches = 2), \
+      "our need set packed: one texel row") \
+    X(NEED_FLAG, (.loads = 1, .int_ops = 1, .branches = 2), \
+      "our need set packed: one texel's flag") \
+    X(NEED_SET, (.loads = 1, .stores = 1, .int_ops = 5), \
+      "our need set packed: one bit set") \
+    /* ---- 2DLevel, marks, RenderPixel (firmware/gp/vr_image_kernels.h, common/vr_kernels.h) ---- */ \
+    X(LEVEL_PIXEL, (.fadd = 1, .loads = 1, .load_use = 1, .stores = 1, .int_ops = 2, .branches = 4), \
+      "2DLevel of a pixel: the mode tests, the finest level kept") \
+    X(LEVEL, (.fadd = 3, .fmul = 2, .fdiv = 1, .fsqrt = 1, .int_ops = 2), \
+      "2DLevel exact: the pixel's distance from the gaze") \
+    X(GAZE_LEVEL, (.fadd = 2, .int_ops = 1, .branches = 2), \
+      "the acuity model: radius inside the sweet spot or past the periphery") \
+    X(LEVEL_ANNULUS, (.fadd = 4, .fmul = 2, .fdiv = 3, .branches = 4), \
+      "the acuity model in the annulus (atan and log2 are LIBMs)") \
+    X(LEVEL_FALLOFF, (.fadd = 2, .fmul = 3, .fdiv = 1), \
+      "the acuity model's Gaussian falloff (its exp is a LIBM)") \
+    X(LEVEL_TABLE, (.fadd = 2, .loads = 1, .load_use = 1, .int_ops = 11, .branches = 7), \
+      "2DLevel by the paper's two tables (seed 004 §4)") \
+    X(LEVEL_TABLE_NEAR, (.loads = 1, .load_use = 1, .int_ops = 3), \
+      "2DLevel by tables: the distance from the 2D table") \
+    X(LEVEL_TABLE_FAR, (.fadd = 2, .fmul = 3, .fsqrt = 1, .int_ops = 3), \
+      "2DLevel by tables: an offset beyond the 2D table") \
+    X(LEVEL_TABLE_SCALED, (.fadd = 1, .fdiv = 1, .int_ops = 2), \
+      "2DLevel by tables: the distance rescaled (progressive growth)") \
+    X(MARK, (.fadd = 1, .loads = 1, .load_use = 1, .int_ops = 7, .branches = 4), \
+      "texel marking of a pixel: its level, the second-level test") \
+    X(MARK_LEVEL, (.loads = 4, .int_ops = 10, .branches = 1), \
+      "texel marking: one 2D level of the pixel") \
+    X(MARK_ROW, (.int_ops = 5, .branches = 3), \
+      "texel marking: one texel row tried") \
+    X(MARK_STORE, (.stores = 1, .int_ops = 4, .branches = 1), \
+      "texel marking: a flag set in an own row") \
+    X(MARK_RIGHT, (.stores = 1), \
+      "texel marking: the right neighbour of a pixel between texels") \
+    X(PIXEL, (.fadd = 11, .fmul = 3, .loads = 1, .load_use = 1, .stores = 3, .int_ops = 13, .branches = 10), \
+      "RenderPixel: level, blend test, three bytes") \
+    X(BILERP, (.fadd = 20, .fmul = 11, .loads = 16, .int_ops = 20, .branches = 4), \
+      "RenderPixel: bilinear lookup of one 2D level, 3 channels") \
+    X(PIXEL_BLEND, (.fadd = 6, .fmul = 3), \
+      "RenderPixel: the blend of the two levels") \
+    /* ---- once per sequence (firmware/gp/vr_setup_kernels.h, common/vr_kernels.h) ---- */ \
+    X(TABLE_DIST, (.fadd = 2, .fmul = 3, .fsqrt = 1, .stores = 1, .int_ops = 8, .branches = 1), \
+      "2DLevel tables: one entry of the distance table") \
+    X(TABLE_LEVEL, (.fmul = 1, .stores = 1, .int_ops = 3, .branches = 1), \
+      "2DLevel tables: one entry of the level table (+ the acuity model)") \
+    X(ALPHA_ENTRY, (.fadd = 2, .fmul = 1, .stores = 1, .int_ops = 4, .branches = 1), \
+      "one entry of the opacity-correction tables (its pow is a LIBM)") \
+    X(VOXEL, (.fadd = 3, .fmul = 3, .fsqrt = 1, .loads = 1, .int_ops = 25, .branches = 11), \
+      "level-0 voxel: neighbours, |gradient|, its value, the opacity test") \
+    X(GRADIENT_AXIS, (.fadd = 1, .fmul = 1, .fdiv = 1, .loads = 2, .load_use = 1, .int_ops = 11), \
+      "one central difference of the gradient") \
+    X(ZERO, (.stores = 1), \
+      "a transparent voxel: one zero component") \
+    X(SURFACE, (.fadd = 1, .fmul = 6, .fdiv = 3, .stores = 4, .branches = 3), \
+      "an opaque voxel: normal, opacity-weighted shaded colour") \
+    X(SURFACE_NORMAL, (.fmul = 3, .stores = 4), \
+      "specular/moving: the opacity-weighted normal") \
+    X(DIFFUSE, (.fadd = 3, .fmul = 3, .branches = 1), \
+      "diffuse shading: the normal's length test") \
+    X(DIFFUSE_LIT, (.fadd = 4, .fmul = 4, .int_ops = 1, .branches = 2), \
+      "diffuse shading of a surface voxel") \
+    X(DIFFUSE_UNLIT, (.fadd = 1), \
+      "diffuse shading where the normal is zero") \
+    X(CLASSIFY, (.fadd = 2, .fdiv = 3, .int_ops = 1, .branches = 2), \
+      "classification: the contour loop's entry, normalised colour, opacity") \
+    X(CONTOUR, (.fadd = 3, .loads = 1, .load_use = 1, .int_ops = 3, .branches = 3), \
+      "classification: one contour of the transfer function") \
+    X(CONTOUR_RAMP, (.fadd = 2, .fmul = 2, .fdiv = 1, .loads = 2, .load_use = 2, .branches = 1), \
+      "classification: a contour's ramp (non-zero gradient)") \
+    X(CONTOUR_FLAT, (.fadd = 1, .loads = 1, .branches = 1), \
+      "classification: a contour at zero gradient") \
+    X(CONTOUR_HIT, (.fadd = 5, .fmul = 4, .loads = 3), \
+      "classification: a contour that gives opacity") \
+    X(FILTER_LOOP, (.int_ops = 2, .branches = 1), \
+      "box filter: one child coordinate tried") \
+    X(FILTER_CHILD, (.int_ops = 7), \
+      "box filter: a child's address") \
+    X(FILTER_ADD, (.fadd = 1, .loads = 1), \
+      "box filter: one component of a child added") \
+    X(FILTER_COMPONENT, (.fmul = 1, .stores = 1), \
+      "box filter: one component of the output voxel") \
+    X(QUANTISE, (.fadd = 12, .fmul = 4, .loads = 4, .stores = 1, .int_ops = 10, .branches = 9), \
+      "quantise a voxel's colour and opacity to block A") \
+    X(QUANTISE_NORMAL, (.fadd = 3, .fmul = 6, .fdiv = 3, .fsqrt = 1, .loads = 3, .stores = 1, .int_ops = 18, .branches = 7), \
+      "specular/moving: renormalise and pack the normal into block N")
+
+enum {
+#define VR_COST_ROW_ID(ID, ROW, WHAT) VR_ROW_##ID,
+    VR_COST_ROWS(VR_COST_ROW_ID)
+#undef VR_COST_ROW_ID
+    VR_ROW_COUNT
+};
+
+/* The rows by name (VR_COST_TRILERP, ...) and as a table. */
+#define VR_COST_ROW_CONST(ID, ROW, WHAT) static const vr_cost_row_t VR_COST_##ID = {VR_UNPAREN ROW};
+#define VR_UNPAREN(...) __VA_ARGS__
+VR_COST_ROWS(VR_COST_ROW_CONST)
+#undef VR_COST_ROW_CONST
+
+typedef struct {
+    const char *name, *what;
+    vr_cost_row_t row;
+} vr_cost_entry_t;
+
+static inline const vr_cost_entry_t *vr_cost_table(void)
+{
+    static const vr_cost_entry_t table[VR_ROW_COUNT] = {
+#define VR_COST_ROW_ENTRY(ID, ROW, WHAT) {#ID, WHAT, {VR_UNPAREN ROW}},
+        VR_COST_ROWS(VR_COST_ROW_ENTRY)
+#undef VR_COST_ROW_ENTRY
+    };
+    return table;
+}
 
 static inline void vr_cost_add(fw_ops_t *o, const vr_cost_row_t *r, uint64_t times)
 {
@@ -98,9 +270,75 @@ static inline void vr_cost_add(fw_ops_t *o, const vr_cost_row_t *r, uint64_t tim
     o->fdiv += r->fdiv * times;
     o->fsqrt += r->fsqrt * times;
     o->loads += r->loads * times;
+    o->load_use += r->load_use * times;
     o->stores += r->stores * times;
     o->int_ops += r->int_ops * times;
     o->branches += r->branches * times;
+}
+
+/* A typical ray, sample, skip and pixel as spans (what the host's planner,
+ * firmware/host/fw_estimate.c, weighs a band by; kept here, beside the rows,
+ * so that it follows them): an oblique parallel ray that meets the volume; a
+ * sampled position with all 8 corners fetched, composited with the table's
+ * opacity correction; an octree skip with three bounded axes; a pixel by the
+ * tables with two bilinear lookups and its marks. */
+static inline void vr_cost_typical(fw_ops_t *ray, fw_ops_t *sample, fw_ops_t *skip, fw_ops_t *pixel)
+{
+    static const struct {
+        int which, row;
+        unsigned times;
+    } spans[] = {
+        {0, VR_ROW_RAY, 1}, {0, VR_ROW_CLIP_AXIS, 3}, {0, VR_ROW_CLIP_END, 1}, {0, VR_ROW_RAY_START, 1},
+        {0, VR_ROW_RAY_END, 1},
+        {1, VR_ROW_SAMPLE, 1}, {1, VR_ROW_OCT_LEAF, 1}, {1, VR_ROW_POINT, 1}, {1, VR_ROW_TRILERP, 1},
+        {1, VR_ROW_CORNER, 8}, {1, VR_ROW_COMPOSITE, 1}, {1, VR_ROW_CORRECT, 1}, {1, VR_ROW_CORRECT_LUT, 1},
+        {1, VR_ROW_STEP, 1},
+        {2, VR_ROW_SAMPLE, 1}, {2, VR_ROW_OCT_LEAF, 1}, {2, VR_ROW_OCT_UP, 2}, {2, VR_ROW_SKIP, 1},
+        {2, VR_ROW_SKIP_EXIT, 1}, {2, VR_ROW_SKIP_DIVIDE, 3}, {2, VR_ROW_SKIP_PARALLEL, 1},
+        {3, VR_ROW_LEVEL_PIXEL, 1}, {3, VR_ROW_LEVEL_TABLE, 1}, {3, VR_ROW_LEVEL_TABLE_NEAR, 1},
+        {3, VR_ROW_MARK, 1}, {3, VR_ROW_MARK_LEVEL, 1}, {3, VR_ROW_MARK_ROW, 1}, {3, VR_ROW_MARK_STORE, 1},
+        {3, VR_ROW_PIXEL, 1}, {3, VR_ROW_BILERP, 2}, {3, VR_ROW_PIXEL_BLEND, 1},
+    };
+    fw_ops_t *out[4] = {ray, sample, skip, pixel};
+    const vr_cost_entry_t *t = vr_cost_table();
+    for (int k = 0; k < 4; k++)
+        memset(out[k], 0, sizeof *out[k]);
+    for (size_t i = 0; i < sizeof spans / sizeof spans[0]; i++)
+        vr_cost_add(out[spans[i].which], &t[spans[i].row].row, spans[i].times);
+}
+
+/* Production: how often each span ran. */
+typedef struct {
+    uint64_t n[VR_ROW_COUNT];
+} vr_spans_t;
+
+/* Tests: the operations each span stated, per row. */
+typedef struct {
+    fw_ops_t row[VR_ROW_COUNT];
+} vr_count_t;
+
+/* A span of row ID starts (and states its first operations). */
+#define VR_SPAN(sp, cnt, ID, ...)                                                     \
+    do {                                                                              \
+        if (sp)                                                                       \
+            (sp)->n[VR_ROW_##ID]++;                                                   \
+        if (cnt)                                                                      \
+            vr_cost_add(&(cnt)->row[VR_ROW_##ID], &(const vr_cost_row_t){__VA_ARGS__}, 1); \
+    } while (0)
+/* More operations of the current span of row ID. */
+#define VR_COUNT(cnt, ID, ...)                                                        \
+    do {                                                                              \
+        if (cnt)                                                                      \
+            vr_cost_add(&(cnt)->row[VR_ROW_##ID], &(const vr_cost_row_t){__VA_ARGS__}, 1); \
+    } while (0)
+
+/* Adds rows x span counts to *o. */
+static inline void vr_spans_charge(fw_ops_t *o, const vr_spans_t *sp)
+{
+    const vr_cost_entry_t *t = vr_cost_table();
+    for (int i = 0; i < VR_ROW_COUNT; i++)
+        if (sp->n[i])
+            vr_cost_add(o, &t[i].row, sp->n[i]);
 }
 
 #endif

@@ -23,6 +23,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include "vr_cost.h"
 
 #define VR_N_SCALE 511.0f
 #define VR_H_SCALE (2097152.0 / 511.0)
@@ -94,28 +95,54 @@ static inline void vr_shade_consts_diffuse(vr_shade_consts_t *c, const float l[3
     c->kd15 = (int32_t)lrintf(kd * 32768.0f);
 }
 
-/* (x / 2^15)^e in Q15 by square-and-multiply from the exponent's top bit. */
-static inline uint32_t vr_pow_q15(uint32_t x, int e)
+/* (x / 2^15)^e in Q15 by square-and-multiply from the exponent's top bit.
+ * Spans: SHADE_TOP per bit above the top one found, SHADE_SQUARE per
+ * squaring, SHADE_MULTIPLY per set bit below the top. */
+static inline uint32_t vr_pow_q15_counted(uint32_t x, int e, vr_spans_t *sp, vr_count_t *cnt)
 {
     int top = 0;
-    while ((e >> (top + 1)) != 0)
+    while ((e >> (top + 1)) != 0) {
         top++;
+        VR_SPAN(sp, cnt, SHADE_TOP, .int_ops = 2 + 1, .branches = 1);   /* top + 1, shift, ++; test */
+    }
     uint32_t y = x;
     for (int b = top - 1; b >= 0; b--) {
         y = (uint32_t)(((uint64_t)y * y) >> 15) & 0xffffu;
-        if ((e >> b) & 1)
+        /* the square (multiply, shift, mask); the bit test (shift, and);
+         * the loop (decrement, test) */
+        VR_SPAN(sp, cnt, SHADE_SQUARE, .int_ops = 3 + 2 + 1, .branches = 1 + 1);
+        if ((e >> b) & 1) {
             y = (uint32_t)(((uint64_t)y * x) >> 15) & 0xffffu;
+            VR_SPAN(sp, cnt, SHADE_MULTIPLY, .int_ops = 3);
+        }
     }
     return y;
 }
 
-/* Shaded block O from blocks A and N. */
-static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk, uint32_t n_blk)
+static inline uint32_t vr_pow_q15(uint32_t x, int e)
+{
+    return vr_pow_q15_counted(x, e, NULL, NULL);
+}
+
+/* N.h in the normal's fixed point: three sign-extended 10-bit fields times
+ * the immediates (per field: shift but the first, mask, sign test and
+ * subtract, multiply, add but the first). */
+static inline int32_t vr_dot10(uint32_t n_blk, const int32_t h[3])
+{
+    int32_t d = 0;
+    for (int k = 0; k < 3; k++)
+        d += vr_sext10(n_blk >> (10 * k)) * h[k];
+    return d;
+}
+#define VR_DOT10_INT_OPS (2 + 3 * (1 + 2 + 1) + 2)   /* 2 shifts, 3 x (mask, test+subtract, multiply), 2 adds */
+
+/* Shaded block O from blocks A and N.  Spans: SHADE_VOXEL, SHADE_DIFFUSE
+ * (moving object), and vr_pow_q15's. */
+static inline uint32_t vr_shade_voxel_counted(const vr_shade_consts_t *c, uint32_t a_blk,
+                                              uint32_t n_blk, vr_spans_t *sp, vr_count_t *cnt)
 {
     if (c->diffuse_on) {
-        int32_t dl = 0;
-        for (int k = 0; k < 3; k++)
-            dl += vr_sext10(n_blk >> (10 * k)) * c->l[k];
+        int32_t dl = vr_dot10(n_blk, c->l);
         if (dl < 0)
             dl = c->two_sided ? -dl : 0;
         /* rounded shifts: truncation would darken every voxel by about 1/255 */
@@ -133,14 +160,20 @@ static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk
             shaded |= v << (8 * k);
         }
         a_blk = shaded;
+        /* N.L (3 sign tests); |N.L| or max (compare, two-sided test,
+         * negate); xl (add, shift, mask); sh (multiply, add, shift, mask,
+         * add, mask); the zero-normal select (mask, test, add); the alpha
+         * mask; per channel byte (shift but the first, mask), multiply, add,
+         * shift, mask, saturate (compare), shift but the first, or (9; 7 for
+         * the first channel) */
+        VR_SPAN(sp, cnt, SHADE_DIFFUSE, .int_ops = VR_DOT10_INT_OPS + 2 + 3 + 6 + 2 + 1 + (3 * 9 - 2),
+                .branches = 3 + 2 + 1 + 3);
     }
-    int32_t d = 0;
-    for (int k = 0; k < 3; k++)
-        d += vr_sext10(n_blk >> (10 * k)) * c->h[k];
+    int32_t d = vr_dot10(n_blk, c->h);
     if (d < 0)
         d = c->two_sided ? -d : 0;
     uint32_t x = ((uint32_t)d >> 6) & 0xffffu;
-    uint32_t y = vr_pow_q15(x, c->exponent);
+    uint32_t y = vr_pow_q15_counted(x, c->exponent, sp, cnt);
     uint32_t s = (uint32_t)((((uint64_t)y * (uint32_t)c->ks8) >> 15) & 0xffffu);
     uint32_t a8 = a_blk >> 24;
     uint32_t spec = ((s * a8 + 128u) & 0xffffffu) >> 8;
@@ -151,7 +184,20 @@ static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk
             v = 255u;
         out |= v << (8 * k);
     }
+    /* the diffuse test; N.H (3 sign tests); |N.H| or max (compare,
+     * two-sided test, negate); x (shift, mask); the power's last top test
+     * (shift, compare) and y = x; s (multiply, shift, mask); a8; spec
+     * (multiply, add, mask, shift); the alpha mask; per channel byte (shift
+     * but the first, mask), add, saturate (compare), shift but the first,
+     * or (6; 4 for the first channel) */
+    VR_SPAN(sp, cnt, SHADE_VOXEL, .int_ops = VR_DOT10_INT_OPS + 2 + 2 + 2 + 3 + 1 + 4 + 1 + (3 * 6 - 2),
+            .branches = 1 + 3 + 2 + 1 + 3);
     return out;
+}
+
+static inline uint32_t vr_shade_voxel(const vr_shade_consts_t *c, uint32_t a_blk, uint32_t n_blk)
+{
+    return vr_shade_voxel_counted(c, a_blk, n_blk, NULL, NULL);
 }
 
 #endif

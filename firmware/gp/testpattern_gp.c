@@ -43,8 +43,10 @@ static fw_status_t send_region(gp_t *gp, tp_state_t *s, unsigned renderer, unsig
     int32_t rx1 = rx0 + (int32_t)mi->region_width, ry1 = ry0 + (int32_t)mi->region_height;
     for (unsigned i = 0; i < TP_DISCS; i++) {
         const tp_disc_t *d = &s->disc[i];
-        /* Bounding-box test: 3 loads, 4 adds, 4 compares, 4 branches. */
+        /* Bounding-box test: 3 loads (the last compared at once), 4 adds,
+         * 4 compares, 4 branches. */
         ops.loads += 3;
+        ops.load_use += 1;
         ops.int_ops += 8;
         ops.branches += 4;
         if (d->cx + d->r < rx0 || d->cx - d->r >= rx1 || d->cy + d->r < ry0 || d->cy - d->r >= ry1) {

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <string.h>
 
+#include "vr_cast_kernels.h"
 #include "vr_gp_internal.h"
 
 void vr_frame_free(gp_t *gp, vr_state_t *s, bool keep_view)
@@ -60,6 +61,7 @@ fw_status_t vr_fetch_forward(gp_t *gp, vr_state_t *s, const uint32_t *ids, size_
         if ((int)ids[i] >= s->n_units)
             return fw_fail(gp, "vr: request for unit %u", ids[i]);
         ops.loads++;
+        ops.load_use++;              /* the id, bounds-checked at once */
         ops.int_ops += 4;
         if (vr_unit_send_read(gp, s, (int)ids[i], requester) != FW_OK)
             return FW_ERROR;
@@ -278,13 +280,13 @@ fw_status_t vr_fetch_cast_ready(gp_t *gp, vr_state_t *s)
 static void shade_unit(gp_t *gp, vr_state_t *s, int id)
 {
     uint64_t c1 = fw_cycles(gp);
-    uint32_t *a = s->cache[id];
-    const uint32_t *nb = s->cache_n[id];
-    size_t words = vr_unit_bytes(s, id) / 4;
-    for (size_t i = 0; i < words; i++)
-        a[i] = vr_shade_voxel(&s->shade_consts, a[i], nb[i]);
     fw_ops_t o2 = {0};
-    vr_cost_add(&o2, &VR_COST_SHADE_VOXEL, words);
+    const vr_mem_t mem = {gp, &o2};
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    vr_shade_words(&s->shade_consts, s->cache[id], s->cache_n[id], vr_unit_bytes(s, id) / 4, &mem, &sp,
+                   NULL);
+    vr_spans_charge(&o2, &sp);
     fw_charge(gp, &o2);
     fw_free(gp, s->cache_n[id]);
     s->cache_n[id] = NULL;
@@ -305,10 +307,10 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
                            "frame's footprint: partition does not fit",
                        s->g, (unsigned long long)fw_machine_info(gp)->local_mem_bytes, id);
     memcpy(dst, m->payload, bytes);
-    /* The ring port deposits the data in local memory over the i860's
-     * external bus (DMA-like, [I]); the GP pays the bus time, not a copy loop. */
+    /* Delivery as gp.rx_dma says (fw_api.h, [U]): with DMA the port wrote
+     * the unit into local memory, without it the GP copies every word. */
     fw_ops_t ops = {0};
-    ops.ext_bytes = m->payload_bytes;
+    fw_rx_deposit(gp, &ops, dst, 0, bytes);
     ops.int_ops = 8;
     fw_charge(gp, &ops);
     vr_stat_add(gp, s, VR_STAT_CYC_RECEIVE, fw_cycles(gp) - c0);

@@ -142,7 +142,9 @@ static void pass_rects(const vr_state_t *s, pass_rects_t *pr, fw_ops_t *ops)
                 grow(pr->rect[t][m], px, py);
                 pr->any_all[m] = pr->any[t][m] = true;
             }
+            /* the need flag of each texel, tested at once */
             ops->loads += (uint64_t)s->tw[m];
+            ops->load_use += (uint64_t)s->tw[m];
             ops->branches += (uint64_t)s->tw[m];
         }
     }
@@ -207,6 +209,7 @@ fw_status_t vr_footprint_bricks(gp_t *gp, vr_state_t *s, uint32_t *want, size_t 
                         int local = (bz * g->gy + by) * g->gx + bx;
                         int id = s->brick_base[nn] + local;
                         ops.loads++;
+                        ops.load_use++;      /* tested at once */
                         ops.branches++;
                         if (wanted[id] || !s->brick_nonempty[nn][local])
                             continue;
@@ -263,6 +266,7 @@ static void brick_units(const vr_state_t *s, int n, int bx, int by, int bz, int 
                 int ix = bx * u->kx + kx, iy = by * u->ky + ky, iz = bz * u->kz + kz;
                 int id = s->unit_base[n] + (iz * u->ugy + iy) * u->ugx + ix;
                 ops->loads++;
+                ops->load_use++;     /* tested at once */
                 ops->branches++;
                 if (!s->unit_nonempty[id])
                     continue;
@@ -302,6 +306,7 @@ fw_status_t vr_footprint_units(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *
                     for (int bx = 0; bx < g->gx; bx++) {
                         int local = (bz * g->gy + by) * g->gx + bx;
                         ops.loads++;
+                        ops.load_use++;      /* tested at once */
                         ops.branches++;
                         if (s->brick_nonempty[nn][local] &&
                             brick_hits(s, nn, bx, by, bz, pr.all[m], tseg, &ops))
@@ -315,6 +320,7 @@ fw_status_t vr_footprint_units(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *
         for (size_t i = 0; i < n_list; i++) {
             uint32_t id = list[i];
             ops.loads += 2;
+            ops.load_use += 1;       /* the mask, scanned at once */
             ops.branches += 2;
             int first = __builtin_ctz(mask[id]);
             if (first != t)

@@ -105,6 +105,7 @@ bool vr_grid_build(gp_t *gp, octgrid_t *g, const bits_t *occ, int lo, int hi, fw
                 for (int k = 0; k < in->wpr; k++) {
                     uint64_t v = in->w[((size_t)z * in->ny + y) * in->wpr + k];
                     ops->loads++;
+                    ops->load_use++;     /* tested at once */
                     ops->branches++;
                     while (v) {
                         int bit = __builtin_ctzll(v);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "vr_gp_internal.h"
+#include "vr_image_kernels.h"
 
 /* The phase-boundary times of a frame (published values). */
 static const int phase_times[] = {VR_STAT_T_PREP_DONE, VR_STAT_T_CAST_DONE, VR_STAT_T_BOUNDARY,
@@ -96,35 +97,15 @@ static fw_status_t frame_begin(gp_t *gp, vr_state_t *s, uint32_t frame)
 /* 2DLevel of rows [ly0, ly1), each pixel keeping the finest level it has
  * had (render/: level_best).  By the paper's two tables (vr_kernels.h) or
  * exactly (atan, exp and log2 where the level is not constant). */
-static void frame_levels(vr_state_t *s, fw_ops_t *ops)
+static void frame_levels(vr_state_t *s, vr_spans_t *sp)
 {
-    const vr_config_t *c = &s->cfg;
-    int W = c->width;
-    bool gaze = s->fr.mode == VR_MODE_GAZE, tables = gaze && c->level_tables;
+    int W = s->cfg.width;
+    bool gaze = s->fr.mode == VR_MODE_GAZE, tables = gaze && s->cfg.level_tables;
     int gx = (int)floor(s->fr.gaze_x + 0.5), gy = (int)floor(s->fr.gaze_y + 0.5);
-    uint64_t n_level = 0, n_trans = 0;
     for (int y = s->ly0; y < s->ly1; y++) {
         float *row = s->level + (size_t)(y - s->ly0) * W;
-        for (int x = 0; x < W; x++) {
-            float level = 0.0f;
-            if (tables) {
-                level = vr_level_tabled(&s->level_tables, x - gx, y - gy, s->fr.gaze_scale);
-            } else if (gaze) {
-                double dx = (double)x - s->fr.gaze_x, dy = (double)y - s->fr.gaze_y;
-                int tr = 0;
-                level = vr_gaze_level(c, sqrt(dx * dx + dy * dy) / s->fr.gaze_scale, &tr);
-                n_trans += (uint64_t)tr;
-            }
-            if (level < row[x])
-                row[x] = level;
-        }
-        n_level += (uint64_t)W;
-    }
-    if (tables) {
-        vr_cost_add(ops, &VR_COST_LEVEL_TABLE, n_level);
-    } else if (gaze) {
-        vr_cost_add(ops, &VR_COST_LEVEL, n_level);
-        vr_cost_add(ops, &VR_COST_LEVEL_TRANS, n_trans);
+        for (int x = 0; x < W; x++)
+            vr_pixel_level(s, x, y, gaze, tables, gx, gy, &row[x], sp, NULL);
     }
 }
 
@@ -162,37 +143,14 @@ static fw_status_t frame_texels(gp_t *gp, vr_state_t *s, bool reuse, bool last)
 }
 
 /* Marks the texels the band's pixels need (mip2d_mark_pixel, own rows). */
-static void frame_marks(vr_state_t *s, fw_ops_t *ops)
+static void frame_marks(vr_state_t *s, vr_spans_t *sp)
 {
     int W = s->cfg.width;
-    uint64_t n_mark = 0;
     for (int y = s->ly0; y < s->ly1; y++) {
         const float *row = s->level + (size_t)(y - s->ly0) * W;
-        for (int x = 0; x < W; x++) {
-            float level = row[x];
-            int lo = (int)level;
-            if (lo >= s->levels2d)
-                lo = s->levels2d - 1;
-            for (int pass = 0; pass < 2; pass++) {
-                int l = lo + pass;
-                if (pass == 1 && !(level > (float)lo && lo + 1 < s->levels2d))
-                    break;
-                int i = x >> l, j = y >> l;
-                bool fx = (x & ((1 << l) - 1)) != 0, fy = (y & ((1 << l) - 1)) != 0;
-                for (int dj = 0; dj <= (fy ? 1 : 0); dj++) {
-                    int jj = j + dj;
-                    if (jj < s->jlo[l] || jj > s->jhi[l])
-                        continue;
-                    uint8_t *nd = s->need[l] + (size_t)(jj - s->jlo[l]) * s->tw[l];
-                    nd[i] = 1;
-                    if (fx)
-                        nd[i + 1] = 1;
-                }
-            }
-            n_mark++;
-        }
+        for (int x = 0; x < W; x++)
+            vr_mark_pixel(s, x, y, row[x], sp, NULL);
     }
-    vr_cost_add(ops, &VR_COST_MARK, n_mark);
 }
 
 /* Tiles of the band: ray groups cast as soon as their units are in
@@ -317,10 +275,13 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
         for (size_t i = 0; i < (size_t)(s->ly1 - s->ly0) * W; i++)
             s->level[i] = INFINITY;
     }
-    frame_levels(s, &ops);
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    frame_levels(s, &sp);
     if (frame_texels(gp, s, reuse, last) != FW_OK)
         return FW_ERROR;
-    frame_marks(s, &ops);
+    frame_marks(s, &sp);
+    vr_spans_charge(&ops, &sp);
     fw_charge(gp, &ops);
     vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
     if (s->cfg.division == VR_DIVISION_OBJECT_SLABS)

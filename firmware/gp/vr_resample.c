@@ -8,32 +8,7 @@
 #include <string.h>
 
 #include "vr_gp_internal.h"
-
-static void bilerp(const vr_state_t *s, int l, int x, int y, float rgb[3])
-{
-    int i = x >> l, j = y >> l;
-    float sc = (float)(1 << l);
-    float u = (float)(x - (i << l)) / sc, v = (float)(y - (j << l)) / sc;
-    int w = s->tw[l];
-    const float *c00 = s->texel[l] + ((size_t)(j - s->jlo[l]) * w + i) * 3;
-    const float *c10 = u > 0.0f ? c00 + 3 : c00;
-    const float *c01 = v > 0.0f ? c00 + (size_t)w * 3 : c00;
-    const float *c11 = (u > 0.0f && v > 0.0f) ? c00 + ((size_t)w + 1) * 3 : (u > 0.0f ? c10 : c01);
-    for (int k = 0; k < 3; k++) {
-        float a = c00[k] + u * (c10[k] - c00[k]);
-        float b = c01[k] + u * (c11[k] - c01[k]);
-        rgb[k] = a + v * (b - a);
-    }
-}
-
-static inline uint8_t to_u8(float v)
-{
-    if (!(v > 0.0f))
-        return 0;
-    if (v >= 1.0f)
-        return 255;
-    return (uint8_t)(v * 255.0f + 0.5f);
-}
+#include "vr_image_kernels.h"
 
 fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
 {
@@ -50,29 +25,15 @@ fw_status_t vr_resample_if_ready(gp_t *gp, vr_state_t *s)
         uint8_t *px = fw_alloc(gp, bytes);
         if (!px)
             return FW_ERROR;
-        for (int y = s->y0; y < s->y1; y++) {
-            const float *lrow = s->level + (size_t)(y - s->ly0) * W;
-            for (int x = sx; x < sx + sw; x++) {
-                float level = lrow[x], rgb[3];
-                int lo = (int)level;
-                if (lo >= s->levels2d)
-                    lo = s->levels2d - 1;
-                bilerp(s, lo, x, y, rgb);
-                float t = level - (float)lo;
-                if (t > 0.0f && lo + 1 < s->levels2d) {
-                    float hi[3];
-                    bilerp(s, lo + 1, x, y, hi);
-                    for (int k = 0; k < 3; k++)
-                        rgb[k] += t * (hi[k] - rgb[k]);
-                }
-                uint8_t *o = px + ((size_t)(y - s->y0) * sw + (x - sx)) * 3;
-                o[0] = to_u8(rgb[0]);
-                o[1] = to_u8(rgb[1]);
-                o[2] = to_u8(rgb[2]);
-            }
-        }
         fw_ops_t ops = {0};
-        vr_cost_add(&ops, &VR_COST_PIXEL, (uint64_t)sw * rows);
+        const vr_mem_t mem = {gp, &ops};
+        vr_spans_t sp;
+        memset(&sp, 0, sizeof sp);
+        for (int y = s->y0; y < s->y1; y++)
+            for (int x = sx; x < sx + sw; x++)
+                vr_render_pixel(s, x, y, px, ((size_t)(y - s->y0) * sw + (size_t)(x - sx)) * 3, &mem,
+                                &sp, NULL);
+        vr_spans_charge(&ops, &sp);
         fw_charge(gp, &ops);
         uint32_t args[RING_MSG_ARGS] = {(uint32_t)(c->fb_x0 + sx), (uint32_t)(c->fb_y0 + s->y0),
                                         (uint32_t)sw, (uint32_t)rows, 0, 0};
@@ -108,13 +69,15 @@ fw_status_t vr_resample_on_boundary(gp_t *gp, vr_state_t *s, const ring_msg_t *m
         return fw_fail(gp, "vr: boundary message of %zu bytes", m->payload_bytes);
     const float *src = m->payload;
     size_t off = 0;
+    fw_ops_t ops = {0};
     for (int mm = 0; mm < s->levels2d; mm++) {
         int rows = s->jhi[mm] - s->jlo[mm] + 1;
         memcpy(s->texel[mm] + (size_t)rows * s->tw[mm] * 3, src + off, (size_t)s->tw[mm] * 3 * sizeof(float));
+        /* delivery of the row as gp.rx_dma says (fw_api.h, [U]) */
+        fw_rx_deposit(gp, &ops, s->texel[mm], (size_t)rows * s->tw[mm] * 3 * sizeof(float),
+                      (size_t)s->tw[mm] * 3 * sizeof(float));
         off += (size_t)s->tw[mm] * 3;
     }
-    fw_ops_t ops = {0};
-    ops.loads = ops.stores = floats;
     fw_charge(gp, &ops);
     s->boundary_ok = true;
     return vr_resample_if_ready(gp, s);

@@ -8,97 +8,16 @@
 #include <string.h>
 
 #include "vr_gp_internal.h"
+#include "vr_setup_kernels.h"
 
-static inline float slab_at(const vr_state_t *s, int x, int y, int z)
+/* Span counts of the build so far become operations (before every charge,
+ * so that each brick leaves after the work that made it). */
+static void charge_spans(gp_t *gp, fw_ops_t *ops, vr_spans_t *sp)
 {
-    const vr_config_t *c = &s->cfg;
-    return s->slab[((size_t)(z - c->data_z0) * c->ny + y) * c->nx + x];
-}
-
-/* Level-0 components of one voxel (render/mip3d.c mip3d_base_slice with
- * shade_gradient inlined). */
-static void base_voxel(const vr_state_t *s, int x, int y, int z, float *o, fw_ops_t *ops)
-{
-    const vr_config_t *c = &s->cfg;
-    int p[3] = {x, y, z}, n[3] = {c->nx, c->ny, c->nz};
-    float g[3];
-    for (int a = 0; a < 3; a++) {
-        int lo[3] = {x, y, z}, hi[3] = {x, y, z};
-        lo[a] = p[a] > 0 ? p[a] - 1 : p[a];
-        hi[a] = p[a] < n[a] - 1 ? p[a] + 1 : p[a];
-        int span = hi[a] - lo[a];
-        if (span == 0) {
-            g[a] = 0.0f;
-            continue;
-        }
-        float d = slab_at(s, hi[0], hi[1], hi[2]) - slab_at(s, lo[0], lo[1], lo[2]);
-        g[a] = d / (float)span * c->inv_spacing[a];
-    }
-    float rgb[3], nn[3] = {0.0f, 0.0f, 0.0f};
-    float gm = sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-    float a = vr_classify(c, slab_at(s, x, y, z), gm, rgb);
-    vr_cost_add(ops, &VR_COST_VOXEL, 1);
-    vr_cost_add(ops, &VR_COST_CONTOUR, (uint64_t)c->tf_count);
-    for (int k = 0; k < s->stride; k++)
-        o[k] = 0.0f;
-    if (a <= 0.0f)
-        return;
-    if (gm > 0.0f)
-        for (int k = 0; k < 3; k++)
-            nn[k] = g[k] / gm;
-    float shade = 1.0f;
-    if (c->lighting != VR_LIGHT_MOVING)
-        shade = vr_diffuse(c, nn, c->light_dir);
-    for (int k = 0; k < 3; k++)
-        o[k] = a * rgb[k] * shade;
-    o[3] = a;
-    if (s->stride == 8)
-        for (int k = 0; k < 3; k++)
-            o[4 + k] = a * nn[k];
-}
-
-/* One output voxel of the 2x2x2 box filter (mip3d_filter_slice). src is the
- * finer level with dims (snx, sny, snz) and z offset szo (its first slice). */
-static void filter_voxel(const float *src, int snx, int sny, int snz, int szo, int x, int y,
-                         int z, int stride, float *o, fw_ops_t *ops)
-{
-    float acc[8] = {0};
-    for (int dz = 0; dz < 2; dz++) {
-        int cz = 2 * z + dz;
-        if (cz >= snz)
-            continue;
-        for (int dy = 0; dy < 2; dy++) {
-            int cy = 2 * y + dy;
-            if (cy >= sny)
-                continue;
-            for (int dx = 0; dx < 2; dx++) {
-                int cx = 2 * x + dx;
-                if (cx >= snx)
-                    continue;
-                const float *cc = src + (((size_t)(cz - szo) * sny + cy) * snx + cx) * stride;
-                for (int k = 0; k < stride; k++)
-                    acc[k] += cc[k];
-            }
-        }
-    }
-    for (int k = 0; k < stride; k++)
-        o[k] = acc[k] * 0.125f;
-    vr_cost_add(ops, &VR_COST_FILTER_COMPONENT, (uint64_t)stride);
-}
-
-/* Quantise one voxel's components into blocks A and N (vr_shade_fixed.h). */
-static void quantise(const float *o, int stride, uint32_t *qa, uint32_t *qn, fw_ops_t *ops)
-{
-    *qa = vr_q8(o[0]) | vr_q8(o[1]) << 8 | vr_q8(o[2]) << 16 | vr_q8(o[3]) << 24;
-    if (stride == 8 && qn) {
-        float n[3] = {o[4], o[5], o[6]};
-        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (len > 0.0f)
-            for (int k = 0; k < 3; k++)
-                n[k] /= len;
-        *qn = vr_pack_normal(n);
-    }
-    vr_cost_add(ops, &VR_COST_QUANTISE, 1);
+    vr_spans_charge(ops, sp);
+    memset(sp, 0, sizeof *sp);
+    fw_charge(gp, ops);
+    memset(ops, 0, sizeof *ops);
 }
 
 static int brick_id(const vr_state_t *s, int n, int bx, int by, int bz)
@@ -110,7 +29,8 @@ static int brick_id(const vr_state_t *s, int n, int bx, int by, int bz)
 /* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
  * covering slices [z_first, ...) of the level. */
 static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
-                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops)
+                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops,
+                               vr_spans_t *sp)
 {
     const vr_level_geom_t *g = &s->geom[n];
     uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
@@ -134,8 +54,7 @@ static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, i
     ops->loads += VR_BRICK_VOXELS * 2u;
     ops->stores += VR_BRICK_VOXELS * 2u;
     ops->int_ops += VR_BRICK_VOXELS * 4u;
-    fw_charge(gp, ops);
-    memset(ops, 0, sizeof *ops);
+    charge_spans(gp, ops, sp);
     fw_status_t rc = FW_OK;
     if (any) {
         int id = brick_id(s, n, bx, by, bz);
@@ -167,6 +86,9 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
     const vr_config_t *c = &s->cfg;
     int K = c->slab_k, T = c->slab_t, z0 = s->g * T;
     fw_ops_t ops = {0};
+    const vr_mem_t mem = {gp, &ops};
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
     int zs[VR_MAX_LEVELS], ts[VR_MAX_LEVELS];
     for (int n = 0; n <= K; n++) {
         const vr_level_geom_t *g = &s->geom[n];
@@ -227,8 +149,8 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                     size_t i = ((size_t)z * rows + y) * g0->nx + x;
                     size_t qi = ((size_t)z * brow + (sy + y - brow0)) * g0->nx + x;
                     float *o = strip + i * s->stride;
-                    base_voxel(s, x, sy + y, zs[0] + z, o, &ops);
-                    quantise(o, s->stride, &sqa[qi], sqn ? &sqn[qi] : NULL, &ops);
+                    vr_base_voxel(s, x, sy + y, zs[0] + z, o, &mem, &sp, NULL);
+                    vr_quantise(o, s->stride, &sqa[qi], sqn ? &sqn[qi] : NULL, &sp, NULL);
                     if (o[3] > 0.0f) {
                         size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
                         occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
@@ -271,8 +193,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         ops.loads += VR_BRICK_VOXELS * 2u;
                         ops.stores += VR_BRICK_VOXELS * 2u;
                         ops.int_ops += VR_BRICK_VOXELS * 4u;
-                        fw_charge(gp, &ops);
-                        memset(&ops, 0, sizeof ops);
+                        charge_spans(gp, &ops, &sp);
                         if (any) {
                             int id = brick_id(s, 0, bx, by, bz);
                             unsigned r = (unsigned)id % (unsigned)s->n_r;
@@ -307,41 +228,20 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         size_t i = ((size_t)z * g->ny + y) * g->nx + x;
                         float *o = lvl[n] + (((size_t)z * lrows[n] + (y - lrow0[n])) * g->nx + x) * s->stride;
                         /* children rows 2y, 2y+1 of the source strip/level */
-                        float acc[8] = {0};
-                        for (int dz = 0; dz < 2; dz++) {
-                            int cz = 2 * (zs[n] + z) + dz;
-                            if (cz >= gs->nz)
-                                continue;
-                            for (int dy = 0; dy < 2; dy++) {
-                                int cy = 2 * y + dy;
-                                if (cy >= gs->ny)
-                                    continue;
-                                for (int dx = 0; dx < 2; dx++) {
-                                    int cx = 2 * x + dx;
-                                    if (cx >= gs->nx)
-                                        continue;
-                                    const float *cc;
-                                    if (n == 1)
-                                        cc = src + (((size_t)(cz - zs[0]) * rows + (cy - sy)) * gs->nx + cx) * s->stride;
-                                    else
-                                        cc = lvl[n - 1] + (((size_t)(cz - zs[n - 1]) * lrows[n - 1] + (cy - lrow0[n - 1])) * gs->nx + cx) * s->stride;
-                                    for (int k = 0; k < s->stride; k++)
-                                        acc[k] += cc[k];
-                                }
-                            }
-                        }
-                        for (int k = 0; k < s->stride; k++)
-                            o[k] = acc[k] * 0.125f;
-                        vr_cost_add(&ops, &VR_COST_FILTER_COMPONENT, (uint64_t)s->stride);
-                        quantise(o, s->stride, &s->qa[n][i], s->qn[n] ? &s->qn[n][i] : NULL, &ops);
+                        if (n == 1)
+                            vr_filter_voxel(src, gs->nx, gs->ny, gs->nz, zs[0], sy, rows, x, y, zs[n] + z,
+                                            s->stride, o, &sp, NULL);
+                        else
+                            vr_filter_voxel(lvl[n - 1], gs->nx, gs->ny, gs->nz, zs[n - 1], lrow0[n - 1],
+                                            lrows[n - 1], x, y, zs[n] + z, s->stride, o, &sp, NULL);
+                        vr_quantise(o, s->stride, &s->qa[n][i], s->qn[n] ? &s->qn[n][i] : NULL, &sp, NULL);
                         if (o[3] > 0.0f)
                             occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
                     }
             sy_n = ny0;
             srows = nrows;
         }
-        fw_charge(gp, &ops);
-        memset(&ops, 0, sizeof ops);
+        charge_spans(gp, &ops, &sp);
     }
     fw_free(gp, strip);
     fw_free(gp, sqa);
@@ -358,7 +258,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
             for (int bz = zs[n] / g->bz; bz * g->bz < zs[n] + ts[n]; bz++)
                 for (int by = 0; by < g->gy; by++)
                     for (int bx = 0; bx < g->gx; bx++)
-                        if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], zs[n], &ops) != FW_OK)
+                        if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], zs[n], &ops, &sp) != FW_OK)
                             return FW_ERROR;
             if (vr_send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)zs[n], occb[n],
                         (level_voxels(g, ts[n]) + 7) / 8) != FW_OK)
@@ -388,6 +288,8 @@ static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
 {
     const vr_config_t *c = &s->cfg;
     fw_ops_t ops = {0};
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
     for (int n = c->slab_k + 1; n < c->levels; n++) {
         const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
         size_t cnt = level_voxels(g, g->nz);
@@ -399,22 +301,23 @@ static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
             for (int y = 0; y < g->ny; y++)
                 for (int x = 0; x < g->nx; x++) {
                     size_t i = ((size_t)z * g->ny + y) * g->nx + x;
-                    filter_voxel(s->upper[n - 1], gs->nx, gs->ny, gs->nz, 0, x, y, z, s->stride,
-                                 s->upper[n] + i * s->stride, &ops);
-                    quantise(s->upper[n] + i * s->stride, s->stride, &qa[i], qn ? &qn[i] : NULL, &ops);
+                    vr_filter_voxel(s->upper[n - 1], gs->nx, gs->ny, gs->nz, 0, 0, gs->ny, x, y, z,
+                                    s->stride, s->upper[n] + i * s->stride, &sp, NULL);
+                    vr_quantise(s->upper[n] + i * s->stride, s->stride, &qa[i], qn ? &qn[i] : NULL, &sp,
+                                NULL);
                     if (s->upper[n][i * s->stride + 3] > 0.0f)
                         vr_bits_set(&s->occ[n], x, y, z);
                 }
         for (int bz = 0; bz < g->gz; bz++)
             for (int by = 0; by < g->gy; by++)
                 for (int bx = 0; bx < g->gx; bx++)
-                    if (write_brick(gp, s, n, bx, by, bz, qa, qn, 0, &ops) != FW_OK)
+                    if (write_brick(gp, s, n, bx, by, bz, qa, qn, 0, &ops, &sp) != FW_OK)
                         return FW_ERROR;
         fw_free(gp, qa);
         if (qn)
             fw_free(gp, qn);
     }
-    fw_charge(gp, &ops);
+    charge_spans(gp, &ops, &sp);
     for (int n = c->slab_k; n < c->levels; n++) {
         fw_free(gp, s->upper[n]);
         s->upper[n] = NULL;
@@ -520,11 +423,11 @@ static fw_status_t build_level_tables(gp_t *gp, vr_state_t *s)
     t->level = fw_alloc(gp, (size_t)t->n * sizeof *t->level);
     if (!t->dist || !t->level)
         return FW_ERROR;
-    uint64_t trans = vr_level_tables_fill(c, t);
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    vr_level_tables_fill(c, t, &sp, NULL);
     fw_ops_t ops = {0};
-    vr_cost_add(&ops, &VR_COST_TABLE_DIST, (uint64_t)t->w * (uint64_t)t->h);
-    vr_cost_add(&ops, &VR_COST_LEVEL, (uint64_t)t->n);
-    vr_cost_add(&ops, &VR_COST_LEVEL_TRANS, trans);
+    vr_spans_charge(&ops, &sp);
     fw_charge(gp, &ops);
     return FW_OK;
 }
@@ -572,12 +475,10 @@ fw_status_t vr_setup_start(gp_t *gp)
                        s->blocks_per_slot, bs_blocks);
     /* Opacity-correction table (raycast_ctx_init) and byte->float table. */
     fw_ops_t ops = {0};
-    for (int l = 0; l < VR_LUT_LEVELS; l++) {
-        double spacing = (double)c->sample_step * (double)(1 << l);
-        for (int i = 0; i <= VR_LUT_SIZE; i++)
-            s->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / VR_LUT_SIZE, spacing));
-    }
-    vr_cost_add(&ops, &VR_COST_LEVEL_TRANS, (uint64_t)VR_LUT_LEVELS * (VR_LUT_SIZE + 1));
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    vr_alpha_lut_fill(s, &sp, NULL);
+    vr_spans_charge(&ops, &sp);
     for (int i = 0; i < 256; i++)
         s->u8_to_f[i] = (float)i / 255.0f;
     ops.fdiv += 256;
@@ -622,7 +523,7 @@ fw_status_t vr_setup_on_slab(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         return fw_fail(gp, "vr: GP %d cannot hold its %zu-byte slab", s->g, need);
     memcpy(copy, m->payload, need);
     fw_ops_t ops = {0};
-    ops.ext_bytes = need;
+    fw_rx_deposit(gp, &ops, copy, 0, need);   /* gp.rx_dma (fw_api.h) */
     fw_charge(gp, &ops);
     s->slab = copy;
     fw_status_t rc = build_slab(gp, s);
@@ -648,7 +549,8 @@ fw_status_t vr_setup_on_levelk(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         return fw_fail(gp, "vr: malformed level-K slab message");
     memcpy(s->upper[s->cfg.slab_k] + z_first * slice_floats, m->payload, m->payload_bytes);
     fw_ops_t ops = {0};
-    ops.loads = ops.stores = m->payload_bytes / 4;
+    fw_rx_deposit(gp, &ops, s->upper[s->cfg.slab_k], z_first * slice_floats * sizeof(float),
+                  m->payload_bytes);   /* gp.rx_dma (fw_api.h) */
     fw_charge(gp, &ops);
     if (--s->levk_pending == 0 && build_upper(gp, s) != FW_OK)
         return FW_ERROR;
@@ -683,7 +585,7 @@ fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
             return fw_fail(gp, "vr: octree message of %zu bytes, expected %zu", m->payload_bytes, want);
         memcpy(dst, m->payload, want);
         fw_ops_t ops = {0};
-        ops.ext_bytes = want;
+        fw_rx_deposit(gp, &ops, dst, 0, want);   /* gp.rx_dma (fw_api.h) */
         fw_charge(gp, &ops);
         if (s->tables_pending == 0) {
             s->have_octree = true;
@@ -709,7 +611,9 @@ fw_status_t vr_setup_on_occ(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         ops.int_ops += 6;
     }
     ops.loads += m->payload_bytes;
+    ops.load_use += m->payload_bytes;    /* each byte's bits tested at once */
     ops.int_ops += m->payload_bytes * 8;
+    fw_rx_deposit(gp, &ops, NULL, 0, m->payload_bytes);   /* read where the port left it */
     fw_charge(gp, &ops);
     s->occ_pending--;
     return maybe_finish_setup(gp, s);

@@ -15,7 +15,7 @@
 #include <limits.h>
 #include <string.h>
 
-#include "vr_gp_internal.h"
+#include "vr_slab_kernels.h"
 
 /* Band h's texel rows per 2D level, as frame_texels computes a band's own. */
 static void band_geom(const vr_state_t *s, int h, vr_band_geom_t *bg)
@@ -48,27 +48,17 @@ static fw_status_t unpack_need(gp_t *gp, vr_state_t *s, int h, const uint8_t *bi
     if (bytes != (total + 7) / 8)
         return fw_fail(gp, "vr: need set of band %d has %zu bytes, expected %u", h, bytes,
                        (total + 7) / 8);
-    size_t n = 0;
-    for (uint32_t c = 0; c < total; c++)
-        n += (bits[c >> 3] >> (c & 7)) & 1;
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    size_t n = vr_need_count(bits, total, &sp, NULL);
     vr_texel_list_t *tl = &s->band_need[h];
     tl->t = fw_alloc(gp, (n ? n : 1) * sizeof *tl->t);
     if (!tl->t)
         return FW_ERROR;
-    tl->n = 0;
-    for (int m = 0; m < s->levels2d; m++)
-        for (uint32_t c = bg.base[m]; c < bg.base[m + 1]; c++)
-            if ((bits[c >> 3] >> (c & 7)) & 1) {
-                uint32_t off = c - bg.base[m];
-                tl->t[tl->n++] = (vr_texel_ref_t){c, (uint16_t)(off % (uint32_t)bg.tw[m]),
-                                                  (uint16_t)(bg.jlo[m] + (int)(off / (uint32_t)bg.tw[m])),
-                                                  (uint8_t)m};
-            }
+    tl->n = vr_need_unpack(bits, &bg, s->levels2d, tl->t, &sp, NULL);
     fw_ops_t ops = {0};
-    ops.loads = total / 8 + n;
-    ops.int_ops = total + 6 * n;
-    ops.branches = total;
-    ops.stores = 3 * n;
+    fw_dcache_access(gp, &ops, tl->t, 0, tl->n * sizeof *tl->t, 1);
+    vr_spans_charge(&ops, &sp);
     fw_charge(gp, &ops);
     s->need_in[h] = true;
     s->needs_pending--;
@@ -85,19 +75,11 @@ static fw_status_t send_need(gp_t *gp, vr_state_t *s)
     uint8_t *bits = fw_alloc(gp, bytes ? bytes : 1);
     if (!bits)
         return FW_ERROR;
-    for (int m = 0; m < s->levels2d; m++)
-        for (int j = bg.jlo[m]; j <= bg.jhi[m]; j++) {
-            const uint8_t *nd = s->need[m] + (size_t)(j - s->jlo[m]) * s->tw[m];
-            for (int i = 0; i < s->tw[m]; i++)
-                if (nd[i]) {
-                    uint32_t c = bg.base[m] + (uint32_t)(j - bg.jlo[m]) * (uint32_t)bg.tw[m] + (uint32_t)i;
-                    bits[c >> 3] |= (uint8_t)(1u << (c & 7));
-                }
-        }
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    vr_need_pack(s->need, s->jlo, s->tw, &bg, s->levels2d, bits, &sp, NULL);
     fw_ops_t ops = {0};
-    ops.loads = total;
-    ops.branches = total;
-    ops.int_ops = 2 * (uint64_t)total;
+    vr_spans_charge(&ops, &sp);
     fw_charge(gp, &ops);
     fw_status_t rc = FW_OK;
     for (int h = 0; h < s->n_gp && rc == FW_OK; h++)
@@ -264,19 +246,17 @@ static fw_status_t composite_band(gp_t *gp, vr_state_t *s)
     float *acc = fw_alloc(gp, (size_t)(total ? total : 1) * 4 * sizeof *acc);
     if (!acc)
         return FW_ERROR;
-    uint64_t merged = 0;
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    fw_ops_t ops = {0};
+    const vr_mem_t mem = {gp, &ops};
     bool up = s->fr.forward[2] >= 0.0f;
     for (int k = 0; k < s->n_gp; k++) {
         int src = up ? k : s->n_gp - 1 - k;
-        for (size_t r = 0; r < s->n_partials[src]; r++) {
-            const vr_partial_t *p = &s->partials[src][r];
-            if (p->code >= total)
-                return fw_fail(gp, "vr: partial for texel %u of a band of %u", p->code, total);
-            float *a = acc + (size_t)p->code * 4, t = 1.0f - a[3];
-            for (int c = 0; c < 4; c++)
-                a[c] += t * p->rgba[c];
-            merged++;
-        }
+        for (size_t r = 0; r < s->n_partials[src]; r++)
+            if (!vr_merge_partial(acc, total, s->partials[src], r, &mem, &sp, NULL))
+                return fw_fail(gp, "vr: partial for texel %u of a band of %u",
+                               s->partials[src][r].code, total);
     }
     for (int m = 0; m < s->levels2d; m++)
         for (uint32_t c = bg.base[m]; c < bg.base[m + 1]; c++) {
@@ -285,8 +265,8 @@ static fw_status_t composite_band(gp_t *gp, vr_state_t *s)
                                        off % (uint32_t)bg.tw[m]) * 3;
             memcpy(tx, acc + (size_t)c * 4, 3 * sizeof *tx);
         }
-    fw_ops_t ops = {0};
-    vr_cost_add(&ops, &VR_COST_MERGE, merged);
+    vr_spans_charge(&ops, &sp);
+    /* the accumulators' colours into the texel rows: a copy loop */
     ops.loads += 3 * (uint64_t)total;
     ops.stores += 3 * (uint64_t)total;
     fw_charge(gp, &ops);
@@ -360,7 +340,7 @@ fw_status_t vr_slabs_on_partial(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
     memcpy(s->partials[src], m->payload, m->payload_bytes);
     s->n_partials[src] = n;
     fw_ops_t ops = {0};
-    ops.loads = ops.stores = m->payload_bytes / 4;
+    fw_rx_deposit(gp, &ops, s->partials[src], 0, m->payload_bytes);   /* gp.rx_dma (fw_api.h) */
     fw_charge(gp, &ops);
     s->partials_pending--;
     return vr_slabs_progress(gp, s);

@@ -96,6 +96,7 @@ static bool unit_occupied(const vr_state_t *s, int n, const int ijk[3], fw_ops_t
                 int lo = w == (x0 >> 6) ? (x0 & 63) : 0, hi = w == ((x1 - 1) >> 6) ? ((x1 - 1) & 63) : 63;
                 uint64_t mask = (hi == 63 ? ~0ull : ((1ull << (hi + 1)) - 1)) & ~((1ull << lo) - 1);
                 ops->loads++;
+                ops->load_use++;     /* masked and tested at once */
                 ops->int_ops += 4;
                 ops->branches++;
                 if (word & mask)
@@ -167,6 +168,7 @@ fw_status_t vr_units_make_room(gp_t *gp, vr_state_t *s, size_t bytes)
         int victim = -1;
         for (int id = 0; id < s->n_units; id++) {
             ops.loads += 2;
+            ops.load_use += 1;       /* the state, tested at once */
             ops.branches += 2;
             if (s->unit_state[id] == 2 && !s->unit_tiles[id] &&
                 (victim < 0 || s->unit_stamp[id] < s->unit_stamp[victim]))

@@ -21,13 +21,6 @@
 #define COARSE_SIDE 128
 #define PYRAMID_HEIGHTS 8
 
-static double row_cycles(const gp_cost_t *c, const vr_cost_row_t *r)
-{
-    fw_ops_t o = {0};
-    vr_cost_add(&o, r, 1);
-    return (double)gp_cost_cycles(c, &o);
-}
-
 /* The mean of the volume over cell (i, j, k) of f^3 voxels. */
 static float cell_mean(const volume_t *v, int f, int i, int j, int k)
 {
@@ -146,15 +139,14 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
         return st;
     gp_cost_t cost;
     gp_cost_init(&cost, &s->params);
-    s->cycles_ray = row_cycles(&cost, &VR_COST_RAY);
-    s->cycles_sample = row_cycles(&cost, &VR_COST_SAMPLE) + row_cycles(&cost, &VR_COST_TRILERP) +
-                       row_cycles(&cost, &VR_COST_OCT_LEAF) + row_cycles(&cost, &VR_COST_COMPOSITE);
-    /* A skip: the leaf lookup, two steps up the pyramid, the exit
-     * computation and the sample bookkeeping of the position. */
-    s->cycles_skip = row_cycles(&cost, &VR_COST_SKIP) + row_cycles(&cost, &VR_COST_OCT_LEAF) +
-                     2 * row_cycles(&cost, &VR_COST_OCT_UP) + row_cycles(&cost, &VR_COST_SAMPLE);
-    s->cycles_pixel = row_cycles(&cost, &VR_COST_PIXEL) + row_cycles(&cost, &VR_COST_MARK) +
-                      row_cycles(&cost, &VR_COST_LEVEL_TABLE);
+    /* A typical ray, sample, skip (the leaf lookup, two steps up the
+     * pyramid, the exit) and pixel, as the firmware's spans (vr_cost.h). */
+    fw_ops_t ray, sample, skip, pixel;
+    vr_cost_typical(&ray, &sample, &skip, &pixel);
+    s->cycles_ray = (double)gp_cost_cycles(&cost, &ray);
+    s->cycles_sample = (double)gp_cost_cycles(&cost, &sample);
+    s->cycles_skip = (double)gp_cost_cycles(&cost, &skip);
+    s->cycles_pixel = (double)gp_cost_cycles(&cost, &pixel);
     return PP5_OK;
 }
 
@@ -189,7 +181,12 @@ static void ray_work(const fw_session_t *s, const camera_t *cam, float px, float
         }
         int h = empty_height(s, c);
         if (h < 0) {
-            float alpha = s->coarse_alpha[((size_t)c[2] * s->coarse_ny + c[1]) * s->coarse_nx + c[0]];
+            /* On the box's faces floor() can give the cell just outside the
+             * grid: its neighbour is the one the ray samples. */
+            int dims[3] = {s->coarse_nx, s->coarse_ny, s->coarse_nz}, q[3];
+            for (int a = 0; a < 3; a++)
+                q[a] = c[a] < 0 ? 0 : (c[a] >= dims[a] ? dims[a] - 1 : c[a]);
+            float alpha = s->coarse_alpha[((size_t)q[2] * s->coarse_ny + q[1]) * s->coarse_nx + q[0]];
             *samples += 1;
             acc += (1 - acc) * (1 - pow(1 - fmin(alpha, 1.0), len));
             t += step;
