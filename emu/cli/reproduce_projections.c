@@ -245,6 +245,8 @@ static int reproduce_projections(const pp5_reproduce_opts_t *o)
     proj_best_t best;
     int rc = run_table(w, n_work, size, &best);
     print_headline(&best);
+    if (rc == 0 && best.have)
+        rc = proj_sensitivity(&w[n_work - 1], best.division, size, quick);
     for (int i = 0; i < n_work; i++)
         proj_workload_free(&w[i]);
     return rc;

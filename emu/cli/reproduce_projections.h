@@ -42,4 +42,8 @@ pp5_status_t proj_machine(const char *preset, const proj_set_t *sets, int n_sets
 pp5_status_t proj_run(const proj_workload_t *w, int lighting, fw_division_t division,
                       const pp5_params_t *p, int size, proj_row_t *out);
 
+/* The sensitivity block: every ranged [U]/[I] parameter to its plausible low
+ * and high, the steady frame of the division on workload w (specular). */
+int proj_sensitivity(const proj_workload_t *w, fw_division_t division, int size, bool quick);
+
 #endif
