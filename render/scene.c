@@ -1,15 +1,55 @@
 /* scene.c: named datasets with presets, default views and phantom fallback. */
 #include "scene.h"
 
+#include <pthread.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+static bool is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* $PP5_SHARED_DATA; else ../shared/data from the working directory (the
+ * checkout's root, where the README's commands run); else the same folder
+ * found from the binary's own place (./pp5 at the checkout's root, or
+ * build/<kind>/pp5 below it), so a run from elsewhere still finds the data
+ * instead of quietly falling back to a phantom. */
+static char data_root[4096];
+static pthread_once_t data_root_once = PTHREAD_ONCE_INIT;
+
+static void find_data_root(void)
+{
+    snprintf(data_root, sizeof data_root, "../shared/data");
+    if (is_dir(data_root))
+        return;
+    char exe[3000];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char *slash = n > 0 ? (exe[n] = '\0', strrchr(exe, '/')) : NULL;
+    if (!slash)
+        return;
+    *slash = '\0';
+    static const char *const up[] = {"/../shared/data", "/../../../shared/data"};
+    for (size_t i = 0; i < sizeof up / sizeof up[0]; i++) {
+        snprintf(data_root, sizeof data_root, "%s%s", exe, up[i]);
+        if (is_dir(data_root))
+            return;
+    }
+    snprintf(data_root, sizeof data_root, "../shared/data");
+}
 
 const char *scene_data_root(void)
 {
     const char *env = getenv("PP5_SHARED_DATA");
-    return env && *env ? env : "../shared/data";
+    if (env && *env)
+        return env;
+    pthread_once(&data_root_once, find_data_root);
+    return data_root;
 }
 
 void scene_free(scene_t *s)
@@ -40,7 +80,7 @@ static pp5_status_t load_phantom(const char *name, scene_t *s)
 pp5_status_t scene_load(const char *dataset, bool allow_fallback, scene_t *s)
 {
     memset(s, 0, sizeof *s);
-    char path[1024];
+    char path[4200];
     volume_raw_spec_t spec;
     memset(&spec, 0, sizeof spec);
     const char *preset = NULL;

@@ -18,10 +18,11 @@ typedef struct {
     float window_centre, window_width;
     char name[64];                            /* "mrbrain", "cthead", "phantom shepp-logan" */
     bool fell_back;                           /* the data was absent: phantom used instead */
-    char note[1280];                          /* why, when fell_back */
+    char note[4400];                          /* why, when fell_back */
 } scene_t;
 
-/* Root of the shared data: $PP5_SHARED_DATA or ../shared/data. */
+/* Root of the shared data: $PP5_SHARED_DATA, else ../shared/data from the
+ * working directory, else from the binary's place in the checkout. */
 const char *scene_data_root(void);
 /* dataset: "mrbrain" (brainsmall 128x128x84 u8), "cthead" (256x256x113 u16be,
  * spacing 1:1:2), or a phantom name.  With allow_fallback a missing file

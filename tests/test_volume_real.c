@@ -159,3 +159,27 @@ TEST(vol_real_cthead_as_stanford_slices)
     volume_free(&a);
     volume_free(&b);
 }
+
+/* Run from a folder outside the checkout, with $PP5_SHARED_DATA unset, pp5
+ * still finds the shared data from its own place instead of falling back
+ * to a phantom. */
+TEST(vol_real_found_from_another_directory)
+{
+    if (!pp5_test_shared_data("volumes/mrbrain_brainsmall/brainsmall_128x128x84_u8.raw.gz"))
+        SKIP("../shared/data/volumes/mrbrain_brainsmall absent");
+    const char *bin = getenv("PP5_BIN");
+    char abs_bin[4096];
+    REQUIRE(realpath(bin && *bin ? bin : "./pp5", abs_bin) != NULL);
+    new_dir();
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd, "cd '%s' && env -u PP5_SHARED_DATA '%s' render --dataset mrbrain "
+             "--size 16x16 --out x.png >out.txt 2>err.txt", dir, abs_bin);
+    CHECK_EQ(system(cmd), 0);
+    char *text = pp5_test_read_file(out_path("out.txt"));
+    char *err = pp5_test_read_file(out_path("err.txt"));
+    REQUIRE(text && err);
+    CHECK_MSG(strstr(text, "brainsmall_128x128x84_u8.raw.gz") != NULL, "%s", text);
+    CHECK_MSG(strstr(text, "absent") == NULL && strstr(err, "absent") == NULL, "%s%s", text, err);
+    free(text);
+    free(err);
+}
