@@ -248,8 +248,10 @@ int sweep_run_units(const sweep_t *sw, const render_job_t *job)
     if (st == PP5_OK)
         st = workunit_run(&l, &wo, sweep_unit, &su, &run);
     int rc = 0;
-    if (!run.root)
-        rc = st == PP5_OK ? 0 : 1;          /* rank 0 reports */
+    if (!run.root && run.results)
+        rc = st == PP5_OK ? 0 : 1;          /* an MPI rank that only computed: rank 0 reports */
+    else if (!run.root)
+        rc = cliopt_report("sweep", st);    /* failed before the run */
     else if (st == PP5_OK && shard)
         printf("wrote the part %s: shard %u/%u, %zu of the %d points (combine the parts with "
                "pp5 merge)\n", log_path, sw->shard_k, sw->shard_n, run.in_shard, sw->points);
