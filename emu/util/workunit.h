@@ -58,7 +58,7 @@ void workunit_list_init(workunit_list_t *l);
 pp5_status_t workunit_list_add(workunit_list_t *l, const char *key);
 void workunit_list_free(workunit_list_t *l);
 uint64_t workunit_hash(const char *text, uint64_t h);
-#define WORKUNIT_HASH_START 1469598103934665603ull
+#define WORKUNIT_HASH_START 14695981039346656037ull   /* the FNV-1a 64 offset basis */
 
 /* What a unit function returns (malloc'd texts, one line each; the runner
  * frees them).  A failed unit returns its failure status with
@@ -79,6 +79,7 @@ typedef struct {
     bool resumed;     /* read back from the unit log */
     uint64_t frames;
     double host_s;    /* host seconds on its rank: accounting only */
+    double cpu_s;     /* CPU seconds of the thread that ran it (accounting only) */
     int rank;
     char *error, *row, *json;   /* never NULL once done ("" when empty) */
 } workunit_result_t;
@@ -91,6 +92,7 @@ typedef struct {
     bool resume;              /* keep the log's finished units; failed ones run again */
     unsigned shard_k, shard_n;   /* shard_n 0 or 1: every unit */
     const char *accounting_path; /* JSON accounting, or NULL */
+    bool quiet;               /* no accounting summary or failure lines on stderr (tests) */
 } workunit_opts_t;
 
 typedef struct {

@@ -15,7 +15,7 @@ typedef struct {
 } rank_account_t;
 
 typedef struct {
-    double wall_s, unit_s, slowest_s;
+    double wall_s, unit_s, unit_cpu_s, slowest_s;
     uint64_t frames;
     size_t slowest;                /* index, or SIZE_MAX */
     rank_account_t *per_rank;      /* ranks entries */
@@ -34,6 +34,7 @@ static pp5_status_t account_sum(const workunit_job_t *j, account_t *a)
         if (!r->done || r->resumed)
             continue;
         a->unit_s += r->host_s;
+        a->unit_cpu_s += r->cpu_s;
         a->frames += r->frames;
         if (r->rank >= 0 && r->rank < j->out->ranks) {
             a->per_rank[r->rank].units++;
@@ -64,8 +65,8 @@ static void account_print(const workunit_job_t *j, const account_t *a)
         fprintf(stderr, " %zu", a->per_rank[r].units);
     fprintf(stderr, "%s\n", o->ranks > 16 ? " ..." : "");
     fprintf(stderr, "  unit time %.2f core-s of %.2f allocated (%d x %.2f s): parallel "
-            "efficiency %.3f\n", a->unit_s, o->ranks * a->wall_s, o->ranks, a->wall_s,
-            efficiency(j, a));
+            "efficiency %.3f; the units' own CPU time %.2f s\n", a->unit_s, o->ranks * a->wall_s,
+            o->ranks, a->wall_s, efficiency(j, a), a->unit_cpu_s);
     if (a->slowest != SIZE_MAX)
         fprintf(stderr, "  slowest unit %016" PRIx64 " (%s): %.3f s\n",
                 j->list->units[a->slowest].id, j->list->units[a->slowest].key, a->slowest_s);
@@ -91,6 +92,7 @@ static void json_units(json_writer_t *w, const workunit_job_t *j)
         json_kv_string(w, "id", id);
         json_kv_int(w, "rank", r->rank);
         json_kv_double(w, "host_s", r->host_s);
+        json_kv_double(w, "cpu_s", r->cpu_s);
         json_kv_uint(w, "frames", r->frames);
         json_kv_bool(w, "failed", r->failed);
         json_end_object(w);
@@ -117,6 +119,7 @@ static pp5_status_t account_body(FILE *f, void *arg)
     json_kv_uint(&w, "units_failed", j->out->failed);
     json_kv_uint(&w, "emulated_frames", a->frames);
     json_kv_double(&w, "unit_core_s", a->unit_s);
+    json_kv_double(&w, "unit_cpu_s", a->unit_cpu_s);
     json_kv_double(&w, "allocated_core_s", j->out->ranks * a->wall_s);
     json_kv_double(&w, "parallel_efficiency", efficiency(j, a));
     json_key(&w, "per_rank");
@@ -146,7 +149,8 @@ pp5_status_t workunit_job_finish(workunit_job_t *j)
     account_t a;
     pp5_status_t ast = account_sum(j, &a);
     if (ast == PP5_OK) {
-        account_print(j, &a);
+        if (!j->opts->quiet)
+            account_print(j, &a);
         if (j->opts->accounting_path) {
             account_file_t af = {j, &a};
             ast = workunit_write_atomic(j->opts->accounting_path, account_body, &af);

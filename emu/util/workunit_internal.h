@@ -33,6 +33,7 @@ typedef struct {
 } workunit_job_t;
 
 double workunit_now_s(void);
+double workunit_thread_cpu_s(void);
 uint64_t workunit_plan_hash(const char *command, const char *plan, const workunit_list_t *l);
 void workunit_result_clear(workunit_result_t *r);
 pp5_status_t workunit_write_atomic(const char *path, pp5_status_t (*body)(FILE *f, void *arg),

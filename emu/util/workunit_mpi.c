@@ -36,14 +36,15 @@ enum { TAG_READY = 11, TAG_UNIT, TAG_STOP, TAG_RESULT };
 
 typedef struct {
     uint64_t index, id, frames;
-    double host_s;
+    double host_s, cpu_s;
     uint32_t failed, len_error, len_row, len_json;
 } wire_head_t;
 
 static unsigned char *pack_result(size_t index, uint64_t id, const workunit_result_t *r,
                                   size_t *bytes)
 {
-    wire_head_t h = {index, id, r->frames, r->host_s, r->failed, (uint32_t)strlen(r->error),
+    wire_head_t h = {index, id, r->frames, r->host_s, r->cpu_s, r->failed,
+                     (uint32_t)strlen(r->error),
                      (uint32_t)strlen(r->row), (uint32_t)strlen(r->json)};
     *bytes = sizeof h + h.len_error + h.len_row + h.len_json;
     unsigned char *buf = malloc(*bytes);
@@ -80,12 +81,25 @@ static pp5_status_t unpack_result(const workunit_job_t *j, const unsigned char *
     workunit_result_clear(r);
     const unsigned char *p = buf + sizeof h;
     *r = (workunit_result_t){.done = true, .failed = h.failed != 0, .frames = h.frames,
-                             .host_s = h.host_s, .rank = rank};
+                             .host_s = h.host_s, .cpu_s = h.cpu_s, .rank = rank};
     r->error = copy_text(p, h.len_error);
     r->row = copy_text(p + h.len_error, h.len_row);
     r->json = copy_text(p + h.len_error + h.len_row, h.len_json);
     *index = (size_t)h.index;
     return r->error && r->row && r->json ? PP5_OK : pp5_fail(PP5_E_NOMEM, "out of memory");
+}
+
+/* Waits for a request, sleeping 1 ms between tests: a blocking MPI call
+ * spins (Open MPI polls), which takes a core from the ranks still working,
+ * and on an oversubscribed node (tests: 3 ranks on 2 cores) slows them all. */
+static void wait_sleeping(MPI_Request *req)
+{
+    int done = 0;
+    MPI_Test(req, &done, MPI_STATUS_IGNORE);
+    while (!done) {
+        nanosleep(&(struct timespec){0, 1000000}, NULL);
+        MPI_Test(req, &done, MPI_STATUS_IGNORE);
+    }
 }
 
 /* ---- rank 0 ---- */
@@ -217,7 +231,11 @@ static void work(workunit_job_t *j, int rank)
     for (;;) {
         uint64_t msg[2];
         MPI_Status s;
-        MPI_Recv(msg, 2, MPI_UINT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &s);
+        MPI_Request req;
+        MPI_Irecv(msg, 2, MPI_UINT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &req);
+        int done = 0;
+        while (MPI_Test(&req, &done, &s), !done)
+            nanosleep(&(struct timespec){0, 1000000}, NULL);
         if (s.MPI_TAG == TAG_STOP)
             return;
         if (msg[0] >= j->list->count || j->list->units[msg[0]].id != msg[1]) {
@@ -273,6 +291,11 @@ pp5_status_t workunit_run_mpi(workunit_job_t *j)
         st = coordinate(j, size, provided >= MPI_THREAD_FUNNELED);
     else if (ok)
         work(j, rank);
+    /* Ranks that ran out of units wait here for the last ones without
+     * spinning (MPI_Finalize's own synchronisation would). */
+    MPI_Request barrier;
+    MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
+    wait_sleeping(&barrier);
     MPI_Finalize();
     if (rank != 0)
         return PP5_OK;

@@ -19,6 +19,15 @@ double workunit_now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The calling thread's CPU time: a unit's cost that other work on a shared
+ * host does not inflate, as its wall time does. */
+double workunit_thread_cpu_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* A text kept in a one-line record: newlines become spaces. */
 static char *one_line(char *text, const char *fallback)
 {
@@ -33,11 +42,12 @@ static char *one_line(char *text, const char *fallback)
 void workunit_run_one(workunit_job_t *j, size_t index, int rank, workunit_result_t *r)
 {
     workunit_output_t out = {0};
-    double t0 = workunit_now_s();
+    double t0 = workunit_now_s(), c0 = workunit_thread_cpu_s();
     pp5_fail(PP5_OK, "%s", "");
     pp5_status_t st = j->fn(j->ctx, index, &j->list->units[index], &out);
     workunit_result_clear(r);
     r->host_s = workunit_now_s() - t0;
+    r->cpu_s = workunit_thread_cpu_s() - c0;
     r->done = true;
     r->failed = st != PP5_OK;
     r->frames = out.frames;
@@ -70,8 +80,9 @@ pp5_status_t workunit_record(workunit_job_t *j, size_t index)
     j->out->ran++;
     if (r->failed) {
         j->out->failed++;
-        fprintf(stderr, "%s: unit %016" PRIx64 " (%s) failed: %s\n", j->opts->command, u->id,
-                u->key, r->error);
+        if (!j->opts->quiet)
+                fprintf(stderr, "%s: unit %016" PRIx64 " (%s) failed: %s\n", j->opts->command,
+                    u->id, u->key, r->error);
     }
     progress_step(&j->progress, u->key);
     if (j->kill_after > 0 && (long)++j->recorded >= j->kill_after) {
