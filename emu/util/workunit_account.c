@@ -80,7 +80,7 @@ typedef struct {
 static void json_units(json_writer_t *w, const workunit_job_t *j)
 {
     char id[24];
-    json_key(w, "units_run");
+    json_key(w, "units");
     json_begin_array(w);
     for (size_t i = 0; i < j->out->count; i++) {
         const workunit_result_t *r = &j->out->results[i];
