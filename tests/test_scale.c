@@ -255,7 +255,7 @@ static void write_list(const char *path)
     fclose(f);
 }
 
-TEST(scale_replay_batch_is_identical_for_1_2_3_ranks_and_shards)
+TEST(scale_replay_batch_shards_merged_equal_the_single_run)
 {
     const char *dir = pp5_test_outdir();
     char list[600], csv[600], json[600], args[4096];
@@ -285,7 +285,20 @@ TEST(scale_replay_batch_is_identical_for_1_2_3_ranks_and_shards)
     snprintf(args, sizeof args, "merge %s --out %s", parts, mcsv);
     CHECK_EQ(pp5_test_run_cli(args, NULL, NULL), WORKUNIT_EXIT_UNITS_FAILED);
     CHECK(same_file(csv, mcsv));
+}
+
+TEST(scale_replay_batch_is_identical_for_1_2_3_ranks)
+{
     need_mpi();
+    const char *dir = pp5_test_outdir();
+    char list[600], csv[600], json[600], args[4096];
+    snprintf(list, sizeof list, "%s/runs.list", dir);
+    write_list(list);
+    snprintf(csv, sizeof csv, "%s/plain.csv", dir);
+    snprintf(json, sizeof json, "%s/plain.json", dir);
+    snprintf(args, sizeof args, "replay --batch %s --cost constant:66 --out %s --report %s",
+             list, csv, json);
+    CHECK_EQ(pp5_test_run_cli(args, NULL, NULL), WORKUNIT_EXIT_UNITS_FAILED);
     for (int n = 1; n <= 3; n++) {
         char ncsv[600], njson[600], out[600], err[600];
         snprintf(ncsv, sizeof ncsv, "%s/n%d.csv", dir, n);
