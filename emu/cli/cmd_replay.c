@@ -14,6 +14,7 @@
 #include "registry.h"
 #include "tracker/replay.h"
 #include "tracker/trace_file.h"
+#include "workunit.h"
 
 #if defined(__has_include)
 #if __has_include("plot.h")
@@ -73,10 +74,19 @@ static void usage(FILE *out)
         "                           (default: the literal ring, 16 GPs, 32 GPs, 32 GPs with 16\n"
         "                           ring channels; \"none\": no machines)\n"
         "  --machine-frames N       frames emulated per configuration (default 4)\n"
+        "  --batch LIST             instead of one replay: each line of LIST is a replay, a TRACE\n"
+        "                           and its options (those above; given on the command line\n"
+        "                           they apply to every line; '#' starts a comment).  One\n"
+        "                           summary row per line into --out FILE.csv (default\n"
+        "                           batch.csv), per-line JSON into --report; --resume,\n"
+        "                           --shard K/N and --accounting FILE work as in pp5 sweep, and\n"
+        "                           mpirun -n N shares the lines among N ranks with the same\n"
+        "                           outputs.  A line that fails is a row with its error (exit 3)\n"
         "Examples:\n"
         "  pp5 replay traces/saccades_10s_250hz.trace --predict landing --report r.json\n"
         "  pp5 replay traces/pursuit_10s_250hz.trace --sweep-latency --machine \"gp.count=16\" \\\n"
-        "      --machine \"gp.count=32\"\n",
+        "      --machine \"gp.count=32\"\n"
+        "  mpirun -n 2 pp5 replay --batch runs.list --max-frames 50 --out runs.csv\n",
         REPLAY_DEFAULT_FRAME_S * 1e3, REPLAY_DEFAULT_TRACKER_LATENCY_S * 1e3,
         REPLAY_DEFAULT_DISPLAY_LATENCY_S * 1e3);
 }
@@ -119,6 +129,27 @@ static pp5_status_t write_csv(const char *path, const replay_result_t *r)
     return PP5_OK;
 }
 
+void replay_summary_json(json_writer_t *j, const replay_summary_t *s)
+{
+    json_key(j, "summary");
+    json_begin_object(j);
+    json_kv_uint(j, "frames", s->frames);
+    json_kv_uint(j, "frames_with_error", s->frames_with_error);
+    json_kv_uint(j, "frames_after_gap", s->frames_after_gap);
+    json_kv_double(j, "trace_s", s->trace_s);
+    json_kv_double(j, "valid_display_s", s->valid_display_s);
+    json_kv_double(j, "inside_fraction", s->inside_fraction);
+    json_kv_double(j, "mean_error_deg", s->mean_error_deg);
+    json_kv_double(j, "p95_error_deg", s->p95_error_deg);
+    json_kv_double(j, "max_error_deg", s->max_error_deg);
+    json_kv_double(j, "frames_per_s", s->frames_per_s);
+    json_kv_double(j, "mean_frame_ms", s->mean_frame_s * 1e3);
+    json_kv_double(j, "mean_latency_ms", s->mean_latency_s * 1e3);
+    json_kv_uint(j, "rays", s->rays);
+    json_kv_uint(j, "ring_bytes", s->ring_bytes);
+    json_end_object(j);
+}
+
 static pp5_status_t write_report(const char *path, const char *trace_path, const trace_t *t,
                                  const replay_params_t *p, const replay_cost_source_t *cs,
                                  const char *cost_options, const replay_summary_t *s)
@@ -145,23 +176,7 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
         json_kv_string(&j, "predict_outside_saccades",
                        predict_kind_name(p->predict.landing_fallback));
     json_kv_bool(&j, "timing_only", p->timing_only);
-    json_key(&j, "summary");
-    json_begin_object(&j);
-    json_kv_uint(&j, "frames", s->frames);
-    json_kv_uint(&j, "frames_with_error", s->frames_with_error);
-    json_kv_uint(&j, "frames_after_gap", s->frames_after_gap);
-    json_kv_double(&j, "trace_s", s->trace_s);
-    json_kv_double(&j, "valid_display_s", s->valid_display_s);
-    json_kv_double(&j, "inside_fraction", s->inside_fraction);
-    json_kv_double(&j, "mean_error_deg", s->mean_error_deg);
-    json_kv_double(&j, "p95_error_deg", s->p95_error_deg);
-    json_kv_double(&j, "max_error_deg", s->max_error_deg);
-    json_kv_double(&j, "frames_per_s", s->frames_per_s);
-    json_kv_double(&j, "mean_frame_ms", s->mean_frame_s * 1e3);
-    json_kv_double(&j, "mean_latency_ms", s->mean_latency_s * 1e3);
-    json_kv_uint(&j, "rays", s->rays);
-    json_kv_uint(&j, "ring_bytes", s->ring_bytes);
-    json_end_object(&j);
+    replay_summary_json(&j, s);
     json_end_object(&j);
     fputc('\n', f);
     if (fclose(f) != 0)
@@ -248,15 +263,6 @@ static void default_machines(replay_sweep_t *s)
             s->machines[s->n_machines++] = defaults[i];
 }
 
-/* Everything the command line chose. */
-typedef struct {
-    replay_params_t p;
-    char cost_spec[256];          /* NAME[:OPTIONS] */
-    const char *report, *csv, *plot, *frames_dir, *live, *live_seconds;
-    bool sweep;
-    replay_sweep_t sw;
-} replay_cli_t;
-
 static const struct option replay_opts[] = {
     {"frame-time-ms", required_argument, 0, 'f'}, {"tracker-latency-ms", required_argument, 0, 't'},
     {"display-latency-ms", required_argument, 0, 'd'}, {"latency-ms", required_argument, 0, 'l'},
@@ -269,6 +275,9 @@ static const struct option replay_opts[] = {
     {"seconds", required_argument, 0, 'S'}, {"sweep-latency", no_argument, 0, 'W'},
     {"sweep-ms", required_argument, 0, 'w'}, {"machine", required_argument, 0, 'M'},
     {"machine-frames", required_argument, 0, 'm'}, {"help", no_argument, 0, 'h'},
+    {"batch", required_argument, 0, 'B'}, {"out", required_argument, 0, 'o'},
+    {"resume", no_argument, 0, 'e'}, {"shard", required_argument, 0, 'k'},
+    {"accounting", required_argument, 0, 'a'},
     {0, 0, 0, 0}};
 
 /* The latency and geometry options. */
@@ -298,7 +307,7 @@ static pp5_status_t parse_latency_option(int c, const char *arg, replay_params_t
 }
 
 /* One option; *done set (with *rc) for --help and unknown options. */
-static pp5_status_t parse_option(int c, const char *arg, replay_cli_t *o, bool *done, int *rc)
+pp5_status_t replay_cli_option(int c, const char *arg, replay_cli_t *o, bool *done, int *rc)
 {
     double ms;
     long nf;
@@ -337,9 +346,26 @@ static pp5_status_t parse_option(int c, const char *arg, replay_cli_t *o, bool *
         return st;
     case 'j': o->report = arg; return PP5_OK;
     case 'c': o->csv = arg; return PP5_OK;
+    case 'B': o->batch = arg; return PP5_OK;
+    case 'o': o->out = arg; return PP5_OK;
+    case 'e': o->resume = true; return PP5_OK;
+    case 'a': o->accounting = arg; return PP5_OK;
+    case 'k': return workunit_parse_shard(arg, &o->shard_k, &o->shard_n);
     case 'P': o->plot = arg; return PP5_OK;
-    case 'h': usage(stdout); *done = true; *rc = 0; return PP5_OK;
-    default: usage(stderr); *done = true; *rc = 2; return PP5_OK;
+    case 'h':
+        if (o->in_list)
+            return pp5_fail(PP5_E_CONFIG, "--help has no place in a list");
+        usage(stdout);
+        *done = true;
+        *rc = 0;
+        return PP5_OK;
+    default:
+        if (o->in_list)
+            return pp5_fail(PP5_E_CONFIG, "unknown option or missing value");
+        usage(stderr);
+        *done = true;
+        *rc = 2;
+        return PP5_OK;
     }
 }
 
@@ -455,25 +481,48 @@ static pp5_status_t run_replay(replay_cli_t *o, const char *path)
     return st;
 }
 
+void replay_cli_defaults(replay_cli_t *o)
+{
+    memset(o, 0, sizeof *o);
+    replay_defaults(&o->p);
+    replay_sweep_defaults(&o->sw);
+    o->live_seconds = "10";
+    /* The emulated machine when it is built in (firmware/host/replay_machine.c
+     * registers it); the constant stand-in otherwise. */
+    snprintf(o->cost_spec, sizeof o->cost_spec, "%s",
+             replay_find_cost_source("machine") ? "machine" : "constant");
+}
+
+pp5_status_t replay_cli_parse(replay_cli_t *o, int argc, char **argv, bool *done, int *rc)
+{
+    pp5_status_t st = PP5_OK;
+    int c;
+    *done = false;
+    *rc = 0;
+    optind = 1;
+    opterr = !o->in_list;
+    while (st == PP5_OK && !*done && (c = getopt_long(argc, argv, "h", replay_opts, NULL)) != -1)
+        st = replay_cli_option(c, optarg, o, done, rc);
+    opterr = 1;
+    return st;
+}
+
 static int cmd_replay(int argc, char **argv)
 {
     static replay_cli_t o;      /* large (the sweep's list): kept off the stack */
-    memset(&o, 0, sizeof o);
-    replay_defaults(&o.p);
-    replay_sweep_defaults(&o.sw);
-    o.live_seconds = "10";
-    /* The emulated machine when it is built in (firmware/host/replay_machine.c
-     * registers it); the constant stand-in otherwise. */
-    snprintf(o.cost_spec, sizeof o.cost_spec, "%s",
-             replay_find_cost_source("machine") ? "machine" : "constant");
-    pp5_status_t st = PP5_OK;
+    replay_cli_defaults(&o);
     bool done = false;
-    int c, rc = 0;
-    optind = 1;
-    while (st == PP5_OK && !done && (c = getopt_long(argc, argv, "h", replay_opts, NULL)) != -1)
-        st = parse_option(c, optarg, &o, &done, &rc);
+    int rc = 0;
+    pp5_status_t st = replay_cli_parse(&o, argc, argv, &done, &rc);
     if (done)
         return rc;
+    if (st == PP5_OK && o.batch)
+        return optind == argc ? replay_batch_main(&o)
+                              : cliopt_report("replay", pp5_fail(PP5_E_CONFIG, "--batch: the "
+                                              "traces are in the list; give no TRACE file"));
+    if (st == PP5_OK && (o.out || o.resume || o.shard_n || o.accounting))
+        st = pp5_fail(PP5_E_CONFIG, "--out, --resume, --shard and --accounting go with --batch "
+                      "(one replay writes --csv and --report)");
     if (st == PP5_OK && !o.live && optind != argc - 1)
         st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
     if (st == PP5_OK && o.live && optind != argc)

@@ -3,6 +3,7 @@
 #ifndef PP5_CMD_REPLAY_H
 #define PP5_CMD_REPLAY_H
 
+#include "json.h"
 #include "tracker/replay.h"
 
 /* --predict landing: the landing error per amplitude bin against the true
@@ -22,5 +23,32 @@ typedef struct {
 void replay_sweep_defaults(replay_sweep_t *s);
 pp5_status_t replay_sweep_latency(const trace_t *t, const replay_params_t *p,
                                   const replay_sweep_t *s);
+
+/* Everything the command line chose (cmd_replay.c); the batch
+ * (cmd_replay_batch.c) parses each line of its list into a copy. */
+typedef struct {
+    replay_params_t p;
+    char cost_spec[256];          /* NAME[:OPTIONS] */
+    const char *report, *csv, *plot, *frames_dir, *live, *live_seconds;
+    bool sweep;
+    replay_sweep_t sw;
+    /* --batch LIST and how it runs (emu/util/workunit.h). */
+    const char *batch, *out, *accounting;
+    bool resume;
+    unsigned shard_k, shard_n;
+    bool in_list;                 /* parsing a line of LIST: no usage text on errors */
+} replay_cli_t;
+
+void replay_cli_defaults(replay_cli_t *o);
+/* getopt over argv (argv[0] is skipped) into *o; *done (with *rc) after
+ * --help or an unknown option.  optind is left after the last option. */
+pp5_status_t replay_cli_parse(replay_cli_t *o, int argc, char **argv, bool *done, int *rc);
+pp5_status_t replay_cli_option(int c, const char *arg, replay_cli_t *o, bool *done, int *rc);
+
+/* The "summary" object of a replay's JSON report (cmd_replay.c). */
+void replay_summary_json(json_writer_t *j, const replay_summary_t *s);
+
+/* --batch LIST (cmd_replay_batch.c): returns the exit code. */
+int replay_batch_main(const replay_cli_t *o);
 
 #endif

@@ -6,36 +6,20 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "emu/cli/cmd_sweep.h"
 #include "firmware/host/fw_session.h"
 #include "plot.h"
 #include "registry.h"
 #include "render/scene.h"
-
-#define SWEEP_MAX_KEYS 4
-#define SWEEP_MAX_VALUES 32
-#define SWEEP_MAX_POINTS 256
-
-typedef struct {
-    char key[64];
-    char values[SWEEP_MAX_VALUES][32];
-    int n;
-} sweep_axis_t;
-
-typedef struct {
-    sweep_axis_t axes[SWEEP_MAX_KEYS];
-    int n_axes, points;
-    const char *out_csv, *out_png, *phantom, *dataset, *preset;
-    int w, h;
-    render_mode_t mode;
-    shade_case_t lighting;
-} sweep_t;
 
 static void sweep_usage(FILE *out)
 {
     fprintf(out,
             "usage: pp5 sweep [--set KEY=V1,V2,...]... [--out FILE.csv] [--plot FILE.png]\n"
             "                 [--phantom NAME | --dataset mrbrain] [--size WxH] [--mode gaze|full]\n"
-            "                 [--lighting diffuse|specular] [--preset NAME]\n\n"
+            "                 [--lighting diffuse|specular] [--preset NAME] [--report FILE.json]\n"
+            "                 [--resume] [--shard K/N] [--accounting FILE.json]\n"
+            "       mpirun -n N pp5 sweep ...   (the same outputs, the points shared among N ranks)\n\n"
             "Runs one frame of the gaze-directed renderer on the emulated machine for every\n"
             "point of a grid of parameters and writes a CSV (frame time, its critical-path\n"
             "phases, rays, samples, ring bytes, utilisation, GP imbalance and the GPs'\n"
@@ -58,9 +42,26 @@ static void sweep_usage(FILE *out)
             "  --mode gaze|full     (default gaze, gaze at the image centre)\n"
             "  --lighting L         specular (default; ks 0.4: the PPs shade every frame) or diffuse\n"
             "  --preset NAME        machine preset (default, gaze1990-literal)\n"
+            "  --report FILE.json   every point's parameters and results (or error) as JSON\n"
+            "  --resume             keep the points already done in FILE.csv.units (the unit\n"
+            "                       log a killed or failed run leaves) and run the rest; points\n"
+            "                       that failed run again\n"
+            "  --shard K/N          run only the points whose unit id mod N is K, into the part\n"
+            "                       file --out (a unit log; no CSV, plot or report): `pp5 merge`\n"
+            "                       combines the N parts into the CSV of the whole grid\n"
+            "  --accounting FILE    JSON of what the run cost: ranks, units per rank, host\n"
+            "                       seconds per unit, parallel efficiency (a summary always goes\n"
+            "                       to stderr; host times never enter the CSV or report)\n"
             "  --help               this text\n\n"
-            "Example:\n"
-            "  pp5 sweep --set division=image-bands,resident,object-slabs --out d.csv --plot d.png\n");
+            "Each point is a work unit with a stable id (a hash of its parameters).  Under an\n"
+            "MPI launcher, rank 0 hands the points out one at a time and writes the outputs in\n"
+            "grid order: they are byte-identical to the plain run for any number of ranks.  A\n"
+            "point that fails (e.g. GP memory too small) is a row with its error; the others\n"
+            "still run, and the exit code is 3.\n\n"
+            "Examples:\n"
+            "  pp5 sweep --set division=image-bands,resident,object-slabs --out d.csv --plot d.png\n"
+            "  mpirun -n 2 pp5 sweep --set gp.count=4,8,16,32 --set ring.channels=1,8 --out s.csv\n"
+            "  pp5 sweep --set gp.count=4,8,16,32 --shard 1/2 --out s.part1   (then pp5 merge)\n");
 }
 
 /* KEY=V1,V2,... with every value checked now, not half-way through the grid. */
@@ -76,7 +77,12 @@ static pp5_status_t parse_axis(const char *arg, sweep_axis_t *ax)
         size_t len = c ? (size_t)(c - p) : strlen(p);
         if (len == 0 || len >= sizeof ax->values[0] || ax->n >= SWEEP_MAX_VALUES)
             return pp5_fail(PP5_E_CONFIG, "--set %s: bad value list", ax->key);
-        memcpy(ax->values[ax->n++], p, len);
+        memcpy(ax->values[ax->n], p, len);
+        for (int k = 0; k < ax->n; k++)
+            if (strcmp(ax->values[k], ax->values[ax->n]) == 0)
+                return pp5_fail(PP5_E_CONFIG, "--set %s: value %s is given twice", ax->key,
+                                ax->values[k]);
+        ax->n++;
         p += len + (c ? 1 : 0);
     }
     if (ax->n == 0)
@@ -124,6 +130,10 @@ static pp5_status_t parse_option(sweep_t *sw, int c, const char *a)
         }
         return pp5_fail(PP5_E_CONFIG, "--lighting: specular or diffuse, got '%s'", a);
     case 'r': sw->preset = a; return PP5_OK;
+    case 'j': sw->report = a; return PP5_OK;
+    case 'a': sw->accounting = a; return PP5_OK;
+    case 'R': sw->resume = true; return PP5_OK;
+    case 'S': return workunit_parse_shard(a, &sw->shard_k, &sw->shard_n);
     default: return PP5_E_CONFIG;
     }
 }
@@ -137,6 +147,8 @@ static int parse_args(int argc, char **argv, sweep_t *sw, pp5_status_t *st)
         {"dataset", required_argument, NULL, 'd'}, {"size", required_argument, NULL, 'z'},
         {"mode", required_argument, NULL, 'm'},  {"lighting", required_argument, NULL, 'l'},
         {"preset", required_argument, NULL, 'r'}, {"help", no_argument, NULL, 'h'},
+        {"report", required_argument, NULL, 'j'}, {"accounting", required_argument, NULL, 'a'},
+        {"resume", no_argument, NULL, 'R'},      {"shard", required_argument, NULL, 'S'},
         {NULL, 0, NULL, 0}};
     *sw = (sweep_t){.out_csv = "sweep.csv", .out_png = "sweep.png", .phantom = "shepp-logan",
                     .preset = "default", .w = 210, .h = 210, .mode = RENDER_MODE_GAZE,
@@ -169,8 +181,8 @@ static int parse_args(int argc, char **argv, sweep_t *sw, pp5_status_t *st)
 
 /* The machine and the firmware settings of grid point pt, and its label
  * (the values of the axes that vary). */
-static pp5_status_t point_config(const sweep_t *sw, int pt, int *idx, pp5_params_t *p,
-                                 fw_options_t *o, char *label, size_t label_cap)
+pp5_status_t sweep_point_config(const sweep_t *sw, int pt, int *idx, pp5_params_t *p,
+                                fw_options_t *o, char *label, size_t label_cap)
 {
     pp5_params_default(p);
     fw_options_default(o);
@@ -196,7 +208,7 @@ static pp5_status_t point_config(const sweep_t *sw, int pt, int *idx, pp5_params
     return st == PP5_OK ? pp5_params_validate(p) : st;
 }
 
-static void csv_header(FILE *csv, const sweep_t *sw)
+void sweep_csv_header(FILE *csv, const sweep_t *sw)
 {
     for (int a = 0; a < sw->n_axes; a++)
         fprintf(csv, "%s,", sw->axes[a].key);
@@ -204,16 +216,12 @@ static void csv_header(FILE *csv, const sweep_t *sw)
     for (int k = 0; k < FW_PHASE_COUNT; k++)
         fprintf(csv, ",%s", fw_phase_key((fw_phase_t)k));
     fprintf(csv, ",rays,samples,ring_bytes,ring_data_bytes,ring_pixel_bytes,ring_util,gp_util_mean,"
-                 "gp_util_max,gp_imbalance,renderer_util_mean,gp_dcache_hits,gp_dcache_misses,bottleneck\n");
+                 "gp_util_max,gp_imbalance,renderer_util_mean,gp_dcache_hits,gp_dcache_misses,"
+                 "bottleneck\n");
 }
 
-/* The GPs' data-cache line lookups of a frame (emu/gp_dcache.h). */
-typedef struct {
-    uint64_t hits, misses;
-} sweep_cache_t;
-
-static void csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t rst,
-                    const fw_frame_result_t *r, const sweep_cache_t *dc)
+void sweep_csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t rst,
+                   const fw_frame_result_t *r)
 {
     for (int a = 0; a < sw->n_axes; a++)
         fprintf(csv, "%s,", sw->axes[a].values[idx[a]]);
@@ -234,29 +242,23 @@ static void csv_row(FILE *csv, const sweep_t *sw, const int *idx, pp5_status_t r
             (unsigned long long)r->ring_bytes[RING_CLASS_DATA],
             (unsigned long long)r->ring_bytes[RING_CLASS_PIXELS], r->ring_util_total,
             r->gp_util_mean, r->gp_util_max, r->gp_imbalance, r->rn_util_mean,
-            (unsigned long long)dc->hits, (unsigned long long)dc->misses, r->bottleneck);
+            (unsigned long long)r->dcache_hits, (unsigned long long)r->dcache_misses, r->bottleneck);
 }
 
 /* One frame of the job on the machine of point pt. */
-static pp5_status_t run_point(const sweep_t *sw, const render_job_t *job, const pp5_params_t *p,
-                              const fw_options_t *o, fw_frame_result_t *r, sweep_cache_t *dc)
+pp5_status_t sweep_run_point(const sweep_t *sw, const render_job_t *job, const pp5_params_t *p,
+                             const fw_options_t *o, fw_frame_result_t *r)
 {
     fw_session_t s;
     memset(r, 0, sizeof *r);
-    memset(dc, 0, sizeof *dc);
     pp5_status_t st = fw_session_init(&s, job, p, o);
     if (st == PP5_OK)
         st = fw_session_frame(&s, 0.5 * (sw->w - 1), 0.5 * (sw->h - 1), NULL, r);
-    for (unsigned g = 0; st == PP5_OK && g < s.m.n_gp; g++) {
-        const gp_t *gp = &s.m.gp[g];
-        dc->hits += gp->ops_total.dcache_hits - gp->setup_ops.dcache_hits;
-        dc->misses += gp->ops_total.dcache_misses - gp->setup_ops.dcache_misses;
-    }
     fw_session_free(&s);
     return st;
 }
 
-static pp5_status_t write_plot(const sweep_t *sw, double *xs, double *ph, char (*labels)[64])
+pp5_status_t sweep_write_plot(const sweep_t *sw, double *xs, double *ph, char (*labels)[64])
 {
     plot_t pl;
     char xl[96] = "";
@@ -276,43 +278,6 @@ static pp5_status_t write_plot(const sweep_t *sw, double *xs, double *ph, char (
     if (st == PP5_OK)
         st = plot_write_png(&pl, sw->out_png, 1100, 640);
     plot_free(&pl);
-    return st;
-}
-
-static pp5_status_t run_grid(const sweep_t *sw, const render_job_t *job, FILE *csv)
-{
-    double *xs = calloc((size_t)sw->points, sizeof *xs);
-    double *ph = calloc((size_t)sw->points * FW_PHASE_COUNT, sizeof *ph);
-    char (*labels)[64] = calloc((size_t)sw->points, sizeof *labels);
-    pp5_status_t st = xs && ph && labels ? PP5_OK : pp5_fail(PP5_E_NOMEM, "sweep: out of memory");
-    for (int pt = 0; st == PP5_OK && pt < sw->points; pt++) {
-        int idx[SWEEP_MAX_KEYS];
-        pp5_params_t p;
-        fw_options_t o;
-        if ((st = point_config(sw, pt, idx, &p, &o, labels[pt], sizeof labels[pt])) != PP5_OK)
-            break;
-        fw_frame_result_t r;
-        sweep_cache_t dc;
-        pp5_status_t rst = run_point(sw, job, &p, &o, &r, &dc);
-        csv_row(csv, sw, idx, rst, &r, &dc);
-        xs[pt] = pt;
-        if (rst != PP5_OK) {
-            printf("  %-24s error: %s\n", labels[pt], pp5_error_text());
-            continue;
-        }
-        uint64_t lookups = dc.hits + dc.misses;
-        printf("  %-24s %9.2f ms  %6.2f f/s  ring %7.2f MB  GP max/mean %.2f  D-cache %5.1f %%  "
-               "bottleneck: %s\n",
-               labels[pt], r.frame_time_s * 1e3, 1.0 / r.frame_time_s, r.ring_bytes_total / 1e6,
-               r.gp_imbalance, lookups ? 100.0 * (double)dc.hits / (double)lookups : 0.0, r.bottleneck);
-        for (int k = 0; k < FW_PHASE_COUNT; k++)
-            ph[(size_t)k * sw->points + pt] = r.phase_s[k] * 1e3;
-    }
-    if (st == PP5_OK)
-        st = write_plot(sw, xs, ph, labels);
-    free(xs);
-    free(ph);
-    free(labels);
     return st;
 }
 
@@ -345,23 +310,14 @@ static int cmd_sweep(int argc, char **argv)
     job.shade.lighting = sw.lighting;
     if (sw.lighting == SHADE_SPECULAR_FIXED_LIGHT)
         job.shade.specular = 0.4f;
-    printf("sweep: %s resampled to 128x128x109, %dx%d %s image, lighting %s, preset %s, %d points\n",
-           sc.volume.source, sw.w, sw.h, render_mode_name(sw.mode), shade_case_name(sw.lighting),
-           sw.preset, sw.points);
-    FILE *csv = fopen(sw.out_csv, "w");
-    if (!csv) {
-        st = pp5_fail(PP5_E_IO, "cannot write %s", sw.out_csv);
-    } else {
-        csv_header(csv, &sw);
-        st = run_grid(&sw, &job, csv);
-        if (fclose(csv) != 0 && st == PP5_OK)
-            st = pp5_fail(PP5_E_IO, "cannot write %s", sw.out_csv);
-    }
-    if (st == PP5_OK)
-        printf("wrote %s and %s\n", sw.out_csv, sw.out_png);
+    if (workunit_launcher_rank() == 0)
+        printf("sweep: %s resampled to 128x128x109, %dx%d %s image, lighting %s, preset %s, %d "
+               "points\n", sc.volume.source, sw.w, sw.h, render_mode_name(sw.mode),
+               shade_case_name(sw.lighting), sw.preset, sw.points);
+    rc = sweep_run_units(&sw, &job);
     volume_free(&vol);
     scene_free(&sc);
-    return st == PP5_OK ? 0 : cliopt_report("sweep", st);
+    return rc;
 }
 
 PP5_COMMAND(sweep, "work-division study: frame time on the emulated machine over a parameter grid (CSV + plot)",

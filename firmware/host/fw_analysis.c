@@ -44,6 +44,8 @@ static void gather_work(fw_session_t *s, const stats_t *f, double T, fw_frame_re
         r->bricks_fetched += p->bricks_fetched;
         r->bytes_fetched += (uint64_t)prog(f, g, "bytes_fetched");
         r->pp_stream_words += (uint64_t)prog(f, g, "pp_stream_words");
+        r->dcache_hits += (uint64_t)stats_valuef(f, "gp.%u.frames_dcache_hits", g);
+        r->dcache_misses += (uint64_t)stats_valuef(f, "gp.%u.frames_dcache_misses", g);
         if (prog(f, g, "all_level0") == 0)
             all0 = false;
         uint64_t passes = (uint64_t)prog(f, g, "passes");

@@ -98,6 +98,7 @@ typedef struct {
     double gp_util_mean, gp_util_max, rn_util_mean, rn_util_max;
     double gp_imbalance;              /* busiest GP's busy time / the mean GP's (1 = balanced) */
     uint64_t rn_exec_cycles_max;
+    uint64_t dcache_hits, dcache_misses;   /* the GPs' data-cache line lookups in this frame */
     bool ok;
 } fw_frame_result_t;
 

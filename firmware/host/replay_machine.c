@@ -13,6 +13,7 @@
  * about the display centre, and the renderer's own display model (the same
  * 37 degrees across the image width) places the sweet spot. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,22 +127,79 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
 
 /* The volume the paper projects for (§6: 128x128x109): the Shepp-Logan phantom
  * made at that size, or the MR subject (brainsmall 128x128x84) resampled to it. */
-static pp5_status_t load_volume(const machine_cost_opts_t *o, machine_cost_t *c)
+static pp5_status_t load_volume_now(const char *name, volume_t *v, classify_tf_t *tf,
+                                    render_settings_t *settings)
 {
     render_input_t in;
     render_input_default(&in);
-    in.kind = strcmp(o->volume, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
-    in.name = strcmp(o->volume, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
+    in.kind = strcmp(name, "mrbrain") == 0 ? RENDER_INPUT_DATASET : RENDER_INPUT_PHANTOM;
+    in.name = strcmp(name, "mrbrain") == 0 ? "mrbrain" : "shepp-logan";
     scene_t sc;
     pp5_status_t st = render_input_load(&in, &sc, stderr);
     if (st != PP5_OK)
         return st;
-    c->tf = sc.tf;
-    c->settings.view.rot_x_deg = sc.rot_x_deg;
-    c->settings.view.rot_y_deg = sc.rot_y_deg;
-    c->settings.view.rot_z_deg = sc.rot_z_deg;
-    st = scene_paper_volume(&sc, &c->volume);
+    *tf = sc.tf;
+    settings->view.rot_x_deg = sc.rot_x_deg;
+    settings->view.rot_y_deg = sc.rot_y_deg;
+    settings->view.rot_z_deg = sc.rot_z_deg;
+    st = scene_paper_volume(&sc, v);
     scene_free(&sc);
+    return st;
+}
+
+/* The last volume loaded, kept for the next source opened in this process:
+ * a batch of replays (pp5 replay --batch) opens one source per replay, and
+ * making and resampling the volume takes as long as a machine's setup.  It is
+ * reused only for the same volume name (the inputs are fixed files or a
+ * generated phantom); each source gets its own copy. */
+static struct {
+    pthread_mutex_t lock;
+    char name[64];
+    volume_t volume;
+    classify_tf_t tf;
+    float rot_deg[3];
+    bool ok;
+} volume_cache = {.lock = PTHREAD_MUTEX_INITIALIZER};
+
+static pp5_status_t copy_volume(const volume_t *from, volume_t *to)
+{
+    pp5_status_t st = volume_alloc(to, from->nx, from->ny, from->nz);
+    if (st != PP5_OK)
+        return st;
+    float *data = to->data;
+    *to = *from;
+    to->data = data;
+    memcpy(to->data, from->data, (size_t)from->nx * from->ny * from->nz * sizeof *to->data);
+    return PP5_OK;
+}
+
+static pp5_status_t load_volume(const machine_cost_opts_t *o, machine_cost_t *c)
+{
+    pthread_mutex_lock(&volume_cache.lock);
+    pp5_status_t st = PP5_OK;
+    if (!volume_cache.ok || strcmp(volume_cache.name, o->volume) != 0) {
+        if (volume_cache.ok)
+            volume_free(&volume_cache.volume);
+        volume_cache.ok = false;
+        render_settings_t rs;
+        render_settings_defaults(&rs);
+        st = load_volume_now(o->volume, &volume_cache.volume, &volume_cache.tf, &rs);
+        if (st == PP5_OK) {
+            snprintf(volume_cache.name, sizeof volume_cache.name, "%s", o->volume);
+            volume_cache.rot_deg[0] = rs.view.rot_x_deg;
+            volume_cache.rot_deg[1] = rs.view.rot_y_deg;
+            volume_cache.rot_deg[2] = rs.view.rot_z_deg;
+            volume_cache.ok = true;
+        }
+    }
+    if (st == PP5_OK) {
+        c->tf = volume_cache.tf;
+        c->settings.view.rot_x_deg = volume_cache.rot_deg[0];
+        c->settings.view.rot_y_deg = volume_cache.rot_deg[1];
+        c->settings.view.rot_z_deg = volume_cache.rot_deg[2];
+        st = copy_volume(&volume_cache.volume, &c->volume);
+    }
+    pthread_mutex_unlock(&volume_cache.lock);
     return st;
 }
 
