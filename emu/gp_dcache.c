@@ -58,8 +58,10 @@ void gp_dcache_access(gp_dcache_t *c, uint64_t addr, uint64_t bytes, bool store,
         }
         if (store)
             e |= GP_DCACHE_DIRTY;
-        /* The line becomes the most recently used of its set. */
-        memmove(set + 1, set, (size_t)w * sizeof *set);
+        /* The line becomes the most recently used of its set (w is at most
+         * a few ways: a plain loop beats a library call). */
+        for (; w > 0; w--)
+            set[w] = set[w - 1];
         set[0] = e;
     }
 }
