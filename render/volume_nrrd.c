@@ -124,6 +124,9 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_
     if (!exists)
         return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno));
     fclose(exists);
+    pp5_status_t pre = volume_nrrd_precheck(path);
+    if (pre != PP5_OK)
+        return pre;
     Nrrd *n = nrrdNew();
     NrrdIoState *nio = nrrdIoStateNew();
     if (!n || !nio) {
