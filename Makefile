@@ -7,6 +7,9 @@
 #   make bench      print speed figures (never fails on speed)
 #   make deps       install the Debian packages pp5 needs (apt-get, as root)
 #   make SAN=1 test the same under AddressSanitizer + UBSan (separate build dir)
+#   make SAN=thread test   the threaded tests under ThreadSanitizer (build/tsan)
+#   make fuzz FUZZ_SECONDS=N   every libFuzzer target for N seconds (clang-14)
+#   make soak       long replay and live-recording runs, peak memory (not in CI)
 #
 # Every .c file under emu/ render/ firmware/ tracker/ is part of the program; a
 # module adds sources by adding files, never by editing this list.
@@ -26,6 +29,21 @@ DEB_PKGS := gcc libc6-dev make pkg-config libpng-dev zlib1g-dev libteem-dev \
 ifeq ($(SAN),1)
 BUILD   := build/san
 OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+LDSAN   := -fsanitize=address,undefined
+else ifeq ($(SAN),thread)
+# ThreadSanitizer (gcc's, libtsan2 comes with gcc): only the tests that run
+# threads are run under it (TSAN_TESTS below).
+BUILD   := build/tsan
+OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=thread
+LDSAN   := -fsanitize=thread
+else ifeq ($(SAN),fuzz)
+# libFuzzer targets (tests/fuzz): the library is instrumented for coverage
+# with ASan + UBSan; each target links libFuzzer's main.  Needs clang-14 and
+# libclang-rt-14-dev (installed by `make fuzz` when root, never by make test).
+CC      := clang-14
+BUILD   := build/fuzz
+OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
+           -fno-sanitize-recover=undefined
 LDSAN   := -fsanitize=address,undefined
 else ifeq ($(DEBUG),1)
 BUILD   := build/debug
@@ -142,10 +160,11 @@ LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(FW_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_ve
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-PP5_BIN  := $(if $(filter 1,$(SAN)),$(BUILD)/pp5,pp5)
+PP5_BIN  := $(if $(filter-out 0,$(SAN)),$(BUILD)/pp5,pp5)
 TEST_BIN := $(BUILD)/pp5-tests
 
-.PHONY: all test test-run demo bench bench-peers deps deps-check deps-audit clean help
+.PHONY: all test test-run demo bench bench-peers deps deps-check deps-audit clean help \
+        fuzz fuzz-deps fuzz-build tsan-test soak
 all: $(PP5_BIN)
 
 $(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ) $(GEN)/ldflags.stamp
@@ -174,7 +193,25 @@ $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c -o $@ $<
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
+# libFuzzer targets: tests/fuzz/fuzz_NAME.c, each linked with tests/fuzz/common.c
+# and an archive of the parsing layers (render/, tracker/, emu/util/ and the
+# parameter table), so a target pulls in only the objects it uses; the
+# machine model's SIMD kernels are gcc-only and never parse input.  Built only
+# under SAN=fuzz (`make fuzz`).
+FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c tracker/*.c) emu/params.c emu/pp_params.c)
+FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_version.o
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/fuzz/common.o
+FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(BUILD)/fuzzers/%)
+$(FUZZ_OBJ): $(GEN)/cflags.stamp
+$(BUILD)/libpp5-fuzz.a: $(FUZZ_LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+$(BUILD)/fuzzers/fuzz_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/common.o \
+                         $(BUILD)/libpp5-fuzz.a $(GEN)/ldflags.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(OPT) -fsanitize=fuzzer -o $@ $(filter %.o %.a,$^) $(LDLIBS_ALL)
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(FUZZ_OBJ:.o=.d)
 
 # `make test` first makes sure the system packages are there, then re-enters
 # make so that the pkg-config probes above see them.
@@ -195,6 +232,22 @@ bench: deps-check
 bench-peers: deps-check
 	@$(MAKE) --no-print-directory $(PP5_BIN)
 	./$(PP5_BIN) bench --peers
+
+# `make fuzz FUZZ_SECONDS=N [FUZZ_TARGETS="volume_nrrd trace_read"]`: builds
+# every target with clang-14 (SAN=fuzz) and runs each for N seconds over its
+# seed corpus (tests/fuzz/corpus/NAME, new inputs go to build/fuzz/corpus);
+# tests/fuzz/run fails on any crash, leak, timeout or sanitizer report and
+# prints executions and edges covered per target.  Not needed by make test.
+FUZZ_SECONDS ?= 60
+FUZZ_PKGS := clang-14 libclang-rt-14-dev
+fuzz: deps-check fuzz-deps
+	@$(MAKE) --no-print-directory SAN=fuzz fuzz-build
+	tests/fuzz/run $(FUZZ_SECONDS) build/fuzz/fuzzers $(FUZZ_TARGETS)
+
+fuzz-build: $(FUZZ_BIN)
+
+fuzz-deps:
+	@$(MAKE) --no-print-directory deps-check DEB_PKGS="$(FUZZ_PKGS)"
 
 deps:
 	@if [ "$$(id -u)" = 0 ]; then apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y $(DEB_PKGS); \
