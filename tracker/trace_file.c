@@ -15,6 +15,7 @@
  * when the whole file validated (STYLE.md L9: validate, then commit). */
 #include "trace_file.h"
 #include "input_limits.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -810,12 +811,26 @@ pp5_status_t trace_writer_abandon(trace_writer_t *w)
 
 pp5_status_t trace_write_file(const char *path, const trace_t *t)
 {
+    /* A whole trace goes to a temporary beside `path`, renamed once its end
+     * line is written: an interrupted write never leaves a short trace under
+     * the real name.  (Live recording keeps its flush-as-you-go file.) */
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    outfile_release_stream(&o);
     trace_writer_t w;
-    pp5_status_t st = trace_writer_open(&w, path, &t->header, t->has_head, t->has_hand);
+    st = trace_writer_open(&w, outfile_write_path(&o), &t->header, t->has_head, t->has_hand);
     for (size_t i = 0; st == PP5_OK && i < t->count; i++)
         st = trace_writer_append(&w, &t->samples[i]);
     pp5_status_t cst = trace_writer_close(&w);
-    return st != PP5_OK ? st : cst;
+    if (st == PP5_OK)
+        st = cst;
+    if (st != PP5_OK) {
+        outfile_discard(&o);
+        return st;
+    }
+    return outfile_commit(&o);
 }
 
 /* ------------------------------------------------------------ gaze source */

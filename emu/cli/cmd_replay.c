@@ -10,6 +10,7 @@
 #include "tracker/angles.h"
 #include "cliopt.h"
 #include "json.h"
+#include "outfile.h"
 #include "registry.h"
 #include "tracker/replay.h"
 #include "tracker/trace_file.h"
@@ -78,9 +79,11 @@ static pp5_status_t save_frame(void *ctx, const replay_frame_t *f, const image8_
 
 static pp5_status_t write_csv(const char *path, const replay_result_t *r)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot create", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     fprintf(f, "frame,start_ms,end_ms,display_ms,shown_until_ms,sample_ms,used_x_px,used_y_px,"
                "spot_x_px,spot_y_px,true_x_px,true_y_px,error_deg,inside_ms,valid_ms,frame_ms,"
                "rays,ring_bytes,after_gap\n");
@@ -94,18 +97,18 @@ static pp5_status_t write_csv(const char *path, const replay_result_t *r)
                 q->inside_s * 1e3, q->valid_s * 1e3, q->frame_s * 1e3,
                 (unsigned long long)q->rays, (unsigned long long)q->ring_bytes, q->after_gap ? 1 : 0);
     }
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 static pp5_status_t write_report(const char *path, const char *trace_path, const trace_t *t,
                                  const replay_params_t *p, const replay_cost_source_t *cs,
                                  const char *cost_options, const replay_summary_t *s)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot create", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     json_writer_t j;
     json_init(&j, f, true);
     json_begin_object(&j);
@@ -141,9 +144,7 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     json_end_object(&j);
     json_end_object(&j);
     fputc('\n', f);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 static pp5_status_t write_plot(const char *path, const replay_result_t *r)
@@ -268,6 +269,11 @@ static int cmd_replay(int argc, char **argv)
         st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
     if (st == PP5_OK && live && optind != argc)
         st = pp5_fail(PP5_E_CONFIG, "--live records its own trace: give no TRACE file");
+    /* Outputs are checked before the (possibly long) replay starts. */
+    if (st == PP5_OK)
+        st = outpath_check_all("--report", report, "--csv", csv, "--plot", plot, NULL);
+    if (st == PP5_OK && frames_dir)
+        st = outpath_check_dir("--frames-dir", frames_dir);
     if (st != PP5_OK)
         return cliopt_report("replay", st);
     const char *path = live ? NULL : argv[optind];
