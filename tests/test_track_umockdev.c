@@ -27,6 +27,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "emu/util/status.h"
 #include "harness.h"
 #include "tracker/trace_file.h"
 
@@ -910,7 +911,8 @@ static void polhemus_failure(after_end_t after, const char *needle)
     REQUIRE(child_start(&c, dir, args));
     int rc = child_wait(&c, CHILD_DEADLINE_S);
     bed_close(&b);
-    CHECK_MSG(rc == 1, "pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
+              rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
     if (!file_contains(c.err, needle))
         show_stderr(&c);
@@ -1076,7 +1078,8 @@ static void hid_failure(bool disconnect, int n_good, int n_bad, const char *need
     }
     int rc = child_wait(&c, CHILD_DEADLINE_S);
     bed_close(&b);
-    CHECK_MSG(rc == 1, "pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
+              rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
     if (!file_contains(c.err, needle))
         show_stderr(&c);
@@ -1321,9 +1324,10 @@ TEST(track_umockdev_run_replays_fixture_files)
     child_t c;
     REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
     int rc = child_wait(&c, CHILD_DEADLINE_S);
-    CHECK_MSG(rc == 1, "umockdev-run pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "umockdev-run pp5 exited %d, expected %d (device error; "
+              "-1: hang, killed)", rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, "timeout"), "stderr lacks 'timeout'");
-    if (rc != 1 || !file_contains(c.err, "timeout"))
+    if (rc != PP5_EXIT_DEVICE || !file_contains(c.err, "timeout"))
         show_stderr(&c);
     trace_t got;
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
