@@ -216,8 +216,11 @@ pp5_status_t volume_load_info(const char *path, const volume_raw_spec_t *raw, vo
     /* Raw files whose name states the layout, as in shared/data:
      * cthead_256x256x113_u16be.raw.gz. */
     volume_raw_spec_t spec;
-    if (volume_raw_spec_from_name(path, &spec) == PP5_OK)
+    pp5_status_t named = volume_raw_spec_from_name(path, &spec);
+    if (named == PP5_OK)
         return load_raw_info(path, &spec, out, info);
+    if (named == PP5_E_RANGE)
+        return named;      /* the name states a layout over the limits: say so */
     if (!file_exists(path))
         return pp5_fail(PP5_E_IO, "%s: no such file (and no slice series %s.1, %s.2, ...)", path,
                         path, path);

@@ -68,7 +68,8 @@ const char *pp5_exit_codes_help(void)
            "  4  i/o: a file or folder could not be read or written\n"
            "  5  machine: a firmware error, or the emulated machine ran past its time budget\n"
            "  6  device: a tracker failed, timed out or was unplugged\n"
-           "  7  not built in: the optional library for this feature is absent\n";
+           "  7  not supported: a feature not built into this pp5 (optional library absent),\n"
+           "     or a variant of a format pp5 does not read\n";
 }
 
 bool pp5_mul_size(size_t a, size_t b, size_t *out)

@@ -38,7 +38,7 @@ enum {
     PP5_EXIT_MACHINE = 5,     /* the emulated machine or its firmware failed (firmware error,
                                  time budget exceeded) */
     PP5_EXIT_DEVICE = 6,      /* a tracker device failed, timed out or disconnected */
-    PP5_EXIT_UNSUPPORTED = 7  /* the feature is not built into this pp5 */
+    PP5_EXIT_UNSUPPORTED = 7  /* not built into this pp5, or a format variant it does not read */
 };
 /* The exit code for a status (PP5_OK: 0). */
 int pp5_exit_code(pp5_status_t st);
