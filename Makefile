@@ -36,6 +36,16 @@ else ifeq ($(SAN),thread)
 BUILD   := build/tsan
 OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 LDSAN   := -fsanitize=thread
+# The tests that run more than one thread: native renderer threads (render/
+# parallel.c), the emulator's host threads (emu/renderer_node.c), and the
+# determinism tests that compare 1, 2 and 3 threads.  A TSan report makes the
+# test process exit non-zero (halt_on_error), so the test fails.
+TSAN_TESTS := render_threads_identical gaze_flag_array_casts_each_ray_once \
+              gaze_progressive_converges machine_results_identical_for_1_2_and_4_host_threads \
+              machine_threaded_firmware_error render_cli_writes_image_figures_and_report \
+              determinism_
+TESTS   ?= $(TSAN_TESTS)
+export TSAN_OPTIONS ?= halt_on_error=1:exitcode=66:second_deadlock_stack=1
 else ifeq ($(SAN),fuzz)
 # libFuzzer targets (tests/fuzz): the library is instrumented for coverage
 # with ASan + UBSan; each target links libFuzzer's main.  Needs clang-14 and
