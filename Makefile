@@ -43,7 +43,7 @@ LDSAN   := -fsanitize=thread
 TSAN_TESTS := render_threads_identical gaze_flag_array_casts_each_ray_once \
               gaze_progressive_converges machine_results_identical_for_1_2_and_4_host_threads \
               machine_threaded_firmware_error render_cli_writes_image_figures_and_report \
-              determinism_
+              determinism_threads_
 TESTS   ?= $(TSAN_TESTS)
 export TSAN_OPTIONS ?= halt_on_error=1:exitcode=66:second_deadlock_stack=1
 else ifeq ($(SAN),fuzz)

@@ -119,12 +119,46 @@ static void report_stats(json_writer_t *j, const char *key, const render_stats_t
     json_kv_uint(j, "rays", s->rays);
     json_kv_uint(j, "samples_3d", s->samples);
     json_kv_uint(j, "samples_skipped_by_octree", s->samples_skipped);
+    json_kv_int(j, "frame_index", s->frame_index);
+    json_kv_bool(j, "full_resolution_everywhere", s->full_resolution_everywhere);
+    json_end_object(j);
+}
+
+/* Host wall-clock times, in ms: they vary from run to run. */
+static void report_ms(json_writer_t *j, const char *key, const render_stats_t *s)
+{
+    json_key(j, key);
+    json_begin_object(j);
     json_kv_double(j, "ms_levels", s->ms_levels);
     json_kv_double(j, "ms_cast", s->ms_cast);
     json_kv_double(j, "ms_reconstruct", s->ms_reconstruct);
     json_kv_double(j, "ms_total", s->ms_total);
-    json_kv_int(j, "frame_index", s->frame_index);
-    json_kv_bool(j, "full_resolution_everywhere", s->full_resolution_everywhere);
+    json_end_object(j);
+}
+
+/* Everything that depends on the host rather than the inputs (thread count,
+ * wall-clock times) lives under this one key, so that two reports of the same
+ * render compare equal once it is removed. */
+static void report_host_timing(json_writer_t *j, const native_renderer_t *r, int threads,
+                               const render_stats_t *stats, int frames,
+                               const render_stats_t *full_stats, bool have_full)
+{
+    json_key(j, "host_timing");
+    json_begin_object(j);
+    json_kv_int(j, "threads", threads);
+    json_kv_double(j, "ms_mip3d", r->ms_build_mip);
+    json_kv_double(j, "ms_octree", r->ms_build_octree);
+    json_key(j, "frames");
+    json_begin_array(j);
+    for (int f = 0; f < frames; f++) {
+        json_begin_object(j);
+        report_ms(j, "ms", &stats[f]);
+        json_end_object(j);
+    }
+    json_end_array(j);
+    report_ms(j, "last_frame", &stats[frames - 1]);
+    if (have_full)
+        report_ms(j, "full_resolution_reference", full_stats);
     json_end_object(j);
 }
 
@@ -256,7 +290,6 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
             json_kv_bool(&j, "octree", s.view.use_octree);
             json_kv_string(&j, "transfer_function", c->tf.name);
             json_kv_string(&j, "lighting", shade_case_name(c->shade.lighting));
-            json_kv_int(&j, "threads", s.threads > 0 ? s.threads : r.threads);
             json_kv_double(&j, "monitor_diag_in", s.display.monitor_diag_in);
             json_kv_double(&j, "view_distance_in", s.display.view_distance_in);
             json_kv_double(&j, "image_subtense_deg", s.display.image_subtense_deg);
@@ -270,8 +303,6 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
             json_kv_int(&j, "mip3d_levels", r.mip.levels);
             json_kv_int(&j, "mip3d_floats_per_voxel", r.mip.stride);
             json_kv_uint(&j, "mip3d_bytes", r.mip.bytes);
-            json_kv_double(&j, "ms_mip3d", r.ms_build_mip);
-            json_kv_double(&j, "ms_octree", r.ms_build_octree);
             json_end_object(&j);
             json_key(&j, "frames");
             json_begin_array(&j);
@@ -295,6 +326,8 @@ pp5_status_t render_cli_run(render_cli_t *c, FILE *log)
                 json_kv_double(&j, "max_channel_error", q.max_abs);
                 json_end_object(&j);
             }
+            report_host_timing(&j, &r, s.threads > 0 ? s.threads : r.threads, stats, frames,
+                               &full_stats, have_q);
             json_end_object(&j);
             fputc('\n', f);
             if (fclose(f) != 0)
