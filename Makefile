@@ -259,6 +259,18 @@ fuzz-build: $(FUZZ_BIN)
 fuzz-deps:
 	@$(MAKE) --no-print-directory deps-check DEB_PKGS="$(FUZZ_PKGS)"
 
+# `make soak`: the long runs (not in CI): 30 minutes of trace replayed in
+# timing-only mode through the emulated machine, and 10 minutes of live HID
+# recording from an emulated device (umockdev-run), both under
+# AddressSanitizer, printing peak RSS at the start and the end of each.
+# SOAK_REPLAY_S / SOAK_LIVE_S shorten them for a trial.
+SOAK_REPLAY_S ?= 1800
+SOAK_LIVE_S ?= 600
+soak: deps-check
+	@$(MAKE) --no-print-directory SAN=1 build/san/pp5-tests build/san/pp5
+	PP5_SOAK=1 PP5_TEST_TIMEOUT_S=14400 PP5_SOAK_REPLAY_S=$(SOAK_REPLAY_S) \
+	    PP5_SOAK_LIVE_S=$(SOAK_LIVE_S) PP5_BIN=./build/san/pp5 build/san/pp5-tests soak_
+
 deps:
 	@if [ "$$(id -u)" = 0 ]; then apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y $(DEB_PKGS); \
 	else echo "make deps: not root; run: sudo apt-get install -y $(DEB_PKGS)"; exit 1; fi

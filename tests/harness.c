@@ -9,7 +9,8 @@
  * PP5_TEST_TIMEOUT_S (default 600) bounds one test; PP5_TEST_NO_FORK=1 runs
  * tests in the runner itself (for a debugger).  Tests named harness_selftest_*
  * run only when PP5_TEST_SELFTEST=1: they crash on purpose, and the test
- * harness_isolates_crashing_tests runs them in a child runner. */
+ * harness_isolates_crashing_tests runs them in a child runner.  Tests named
+ * soak_* run only when PP5_SOAK=1 (`make soak`). */
 #include "harness.h"
 
 #include <errno.h>
@@ -319,11 +320,21 @@ static outcome_t run_one(const test_entry_t *t)
     return OUTCOME_PASS;
 }
 
-/* Tests that crash on purpose run only inside harness_isolates_crashing_tests. */
+static bool env_is_1(const char *name)
+{
+    const char *v = getenv(name);
+    return v && strcmp(v, "1") == 0;
+}
+
+/* Tests that crash on purpose run only inside harness_isolates_crashing_tests;
+ * the long soak runs (soak_*) only under `make soak` (PP5_SOAK=1). */
 static bool hidden(const char *name)
 {
-    const char *v = getenv("PP5_TEST_SELFTEST");
-    return strncmp(name, "harness_selftest_", 17) == 0 && !(v && strcmp(v, "1") == 0);
+    if (strncmp(name, "harness_selftest_", 17) == 0)
+        return !env_is_1("PP5_TEST_SELFTEST");
+    if (strncmp(name, "soak_", 5) == 0)
+        return !env_is_1("PP5_SOAK");
+    return false;
 }
 
 int main(int argc, char **argv)
