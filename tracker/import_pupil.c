@@ -18,7 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LINE_MAX_BYTES 65536
 #define MAX_FIELDS 256
 
 static int col(char **names, int n, const char *want)
@@ -41,7 +40,8 @@ pp5_status_t import_pupil(const char *text, size_t len, const char *name,
     if (!(o->source_width_px > 0 && o->source_height_px > 0))
         return pp5_fail(PP5_E_CONFIG, "%s: Pupil Labs gaze is normalised: pass --source-px WxH "
                         "(the surface or scene image size) and its mm + distance", name);
-    char *line = malloc(LINE_MAX_BYTES), *header = malloc(LINE_MAX_BYTES);
+    size_t line_size;
+    char *line = import_line_buffer(&line_size), *header = import_line_buffer(&line_size);
     char **names = malloc(MAX_FIELDS * sizeof *names), **f = malloc(MAX_FIELDS * sizeof *f);
     trace_t t;
     trace_init(&t);
@@ -54,7 +54,7 @@ pp5_status_t import_pupil(const char *text, size_t len, const char *name,
         st = pp5_fail(PP5_E_NOMEM, "out of memory");
         goto done;
     }
-    if (!import_next_line(text, len, &pos, header, LINE_MAX_BYTES, &too_long) || too_long) {
+    if (!import_next_line(text, len, &pos, header, line_size, &too_long) || too_long) {
         st = pp5_fail(PP5_E_FORMAT, "%s: empty file or header too long", name);
         goto done;
     }
@@ -77,10 +77,10 @@ pp5_status_t import_pupil(const char *text, size_t len, const char *name,
         goto done;
     }
     double W = o->source_width_px, H = o->source_height_px;
-    while (st == PP5_OK && import_next_line(text, len, &pos, line, LINE_MAX_BYTES, &too_long)) {
+    while (st == PP5_OK && import_next_line(text, len, &pos, line, line_size, &too_long)) {
         lineno++;
         if (too_long) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: line too long", name, lineno);
+            st = import_line_too_long(name, lineno);
             break;
         }
         if (line[0] == '\0')
