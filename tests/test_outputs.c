@@ -236,7 +236,7 @@ TEST(exit_codes_map_every_status)
     char *help = pp5_test_read_file(out);
     REQUIRE(help != NULL);
     for (int code = 0; code <= 7; code++) {
-        char want[16];
+        char want[24];
         snprintf(want, sizeof want, "\n  %d  ", code);
         CHECK_MSG(strstr(help, want) != NULL, "pp5 help lacks exit code %d", code);
     }
