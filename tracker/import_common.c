@@ -218,6 +218,6 @@ char *import_line_buffer(size_t *size)
 pp5_status_t import_line_too_long(const char *name, int lineno)
 {
     char where[600];
-    snprintf(where, sizeof where, "%.500s:%d: line", name, lineno);
-    return pp5_limit_check(PP5_LIMIT_LINE_BYTES, pp5_limit(PP5_LIMIT_LINE_BYTES) + 1, where);
+    snprintf(where, sizeof where, "%.500s:%d: the line", name, lineno);
+    return pp5_limit_exceeded(PP5_LIMIT_LINE_BYTES, where);
 }

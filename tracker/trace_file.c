@@ -132,8 +132,10 @@ pp5_status_t trace_slurp(const char *path, size_t max_bytes, char **text, size_t
     for (;;) {
         if (n == cap) {
             if (cap >= max_bytes)
-                return slurp_fail(f, buf, pp5_limit_check(PP5_LIMIT_TEXT_BYTES,
-                                                          (uint64_t)max_bytes + 1, path));
+                return slurp_fail(f, buf, max_bytes == pp5_limit(PP5_LIMIT_TEXT_BYTES)
+                                              ? pp5_limit_exceeded(PP5_LIMIT_TEXT_BYTES, path)
+                                              : pp5_fail(PP5_E_RANGE, "%s is larger than %zu "
+                                                         "bytes", path, max_bytes));
             cap = cap * 2 > max_bytes ? max_bytes : cap * 2;
             char *p = realloc(buf, cap + 1);
             if (!p)
@@ -156,8 +158,8 @@ pp5_status_t trace_slurp(const char *path, size_t max_bytes, char **text, size_t
         n += (size_t)got;
         if (line > max_line) {
             char where[600];
-            snprintf(where, sizeof where, "%.500s:%d: line", path, lineno);
-            return slurp_fail(f, buf, pp5_limit_check(PP5_LIMIT_LINE_BYTES, line, where));
+            snprintf(where, sizeof where, "%.500s:%d: the line", path, lineno);
+            return slurp_fail(f, buf, pp5_limit_exceeded(PP5_LIMIT_LINE_BYTES, where));
         }
     }
     /* zlib reports a gzip stream cut short only through gzerror after EOF. */

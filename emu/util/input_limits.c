@@ -76,3 +76,10 @@ pp5_status_t pp5_limit_check(pp5_limit_t which, uint64_t value, const char *what
                     "environment, e.g. %s=%llu)", what, (unsigned long long)value, r->unit,
                     (unsigned long long)limit, r->env, r->env, (unsigned long long)value);
 }
+
+pp5_status_t pp5_limit_exceeded(pp5_limit_t which, const char *what)
+{
+    const limit_row_t *r = &rows[which];
+    return pp5_fail(PP5_E_RANGE, "%s is longer than the limit of %llu %s (%s; raise it in the "
+                    "environment)", what, (unsigned long long)pp5_limit(which), r->unit, r->env);
+}

@@ -34,5 +34,9 @@ const char *pp5_limit_what(pp5_limit_t which);
  * "<what>: 3000000000 voxels is over the limit of 268435456 (PP5_MAX_VOXELS;
  *  raise it in the environment, e.g. PP5_MAX_VOXELS=3000000000)". */
 pp5_status_t pp5_limit_check(pp5_limit_t which, uint64_t value, const char *what);
+/* PP5_E_RANGE for an input found to exceed the limit before its size is known
+ * (a line still being read, a compressed file): "<what> is longer than the
+ * limit of 65536 bytes (PP5_MAX_LINE_BYTES; raise it in the environment)". */
+pp5_status_t pp5_limit_exceeded(pp5_limit_t which, const char *what);
 
 #endif
