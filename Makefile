@@ -9,6 +9,9 @@
 #   make SAN=1 test the same under AddressSanitizer + UBSan (separate build dir)
 #   make MPI=0 ...  build without MPI even when mpicc is there (build/*-serial,
 #                   binary build/*-serial/pp5); MPI=1 insists on MPI
+#   make SAN=thread test   the threaded tests under ThreadSanitizer (build/tsan)
+#   make fuzz FUZZ_SECONDS=N   every libFuzzer target for N seconds (clang-14)
+#   make soak       long replay and live-recording runs, peak memory (not in CI)
 #
 # The program is every .c file in the folders that LIB_SRC, FW_SRC and CLI_SRC
 # list below (emu/, emu/util/, emu/cli/, render/, tracker/, firmware/host/ and
@@ -32,6 +35,31 @@ DEB_PKGS := gcc libc6-dev make pkg-config libpng-dev zlib1g-dev libteem-dev \
 ifeq ($(SAN),1)
 BUILD   := build/san
 OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+LDSAN   := -fsanitize=address,undefined
+else ifeq ($(SAN),thread)
+# ThreadSanitizer (gcc's, libtsan2 comes with gcc): only the tests that run
+# threads are run under it (TSAN_TESTS below).
+BUILD   := build/tsan
+OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=thread
+LDSAN   := -fsanitize=thread
+# The tests that run more than one thread: native renderer threads (render/
+# parallel.c), the emulator's host threads (emu/renderer_node.c), and the
+# determinism tests that compare 1, 2 and 3 threads.  A TSan report makes the
+# test process exit non-zero (halt_on_error), so the test fails.
+TSAN_TESTS := render_threads_identical gaze_flag_array_casts_each_ray_once \
+              gaze_progressive_converges machine_results_identical_for_1_2_and_4_host_threads \
+              machine_threaded_firmware_error render_cli_writes_image_figures_and_report \
+              determinism_threads_
+TESTS   ?= $(TSAN_TESTS)
+export TSAN_OPTIONS ?= halt_on_error=1:exitcode=66:second_deadlock_stack=1
+else ifeq ($(SAN),fuzz)
+# libFuzzer targets (tests/fuzz): the library is instrumented for coverage
+# with ASan + UBSan; each target links libFuzzer's main.  Needs clang-14 and
+# libclang-rt-14-dev (installed by `make fuzz` when root, never by make test).
+CC      := clang-14
+BUILD   := build/fuzz
+OPT     := -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
+           -fno-sanitize-recover=undefined
 LDSAN   := -fsanitize=address,undefined
 else ifeq ($(DEBUG),1)
 BUILD   := build/debug
@@ -176,14 +204,16 @@ LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(FW_OBJ) $(GEN)/pp5_version.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-PP5_BIN  := $(if $(filter 1,$(SAN))$(filter 0,$(MPI)),$(BUILD)/pp5,pp5)
+PP5_BIN  := $(if $(filter-out 0,$(SAN))$(filter 0,$(MPI)),$(BUILD)/pp5,pp5)
 TEST_BIN := $(BUILD)/pp5-tests
 
-.PHONY: all test test-run fw-boundary-probe demo bench bench-peers deps deps-check deps-audit clean help
+.PHONY: all test test-run fw-boundary-probe demo bench bench-peers deps deps-check deps-audit clean help \
+        fuzz fuzz-deps fuzz-build tsan-test soak
 all: $(PP5_BIN)
 
 $(PP5_BIN): $(LIB_OBJ) $(CLI_OBJ) $(GEN)/ldflags.stamp $(FW_CHECK)/ok
-	$(CC) $(OPT) -o $@ $(filter %.o,$^) $(LDLIBS_ALL)
+	$(CC) $(OPT) -o $@.tmp $(filter %.o,$^) $(LDLIBS_ALL)
+	@mv -f $@.tmp $@
 	@echo "built $@ $(PP5_VERSION), optional features: $(FEATURES)"
 
 $(BUILD)/emu/util/workunit_mpi.o: CFLAGS_ALL += $(MPI_CFLAGS)
@@ -196,7 +226,8 @@ $(BUILD)/tests/test_layers.o: CFLAGS_ALL += -DPP5_LAYERS_LIB_IQUOTE='"$(LIB_IQUO
 $(TEST_BIN): LDLIBS_ALL += $(TEST_LIBS)
 $(TEST_BIN): $(LIB_OBJ) $(filter-out $(BUILD)/emu/cli/main.o,$(CLI_OBJ)) $(TEST_OBJ) $(GEN)/ldflags.stamp \
             $(FW_CHECK)/ok
-	$(CC) $(OPT) -o $@ $(filter %.o,$^) $(LDLIBS_ALL)
+	$(CC) $(OPT) -o $@.tmp $(filter %.o,$^) $(LDLIBS_ALL)
+	@mv -f $@.tmp $@
 
 $(LIB_OBJ) $(CLI_OBJ) $(TEST_OBJ): $(GEN)/cflags.stamp
 
@@ -215,7 +246,25 @@ $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c -o $@ $<
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
+# libFuzzer targets: tests/fuzz/fuzz_NAME.c, each linked with tests/fuzz/common.c
+# and an archive of the parsing layers (render/, tracker/, emu/util/ and the
+# parameter table), so a target pulls in only the objects it uses; the
+# machine model's SIMD kernels are gcc-only and never parse input.  Built only
+# under SAN=fuzz (`make fuzz`).
+FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c tracker/*.c) emu/params.c emu/pp_params.c)
+FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_version.o
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/fuzz/common.o
+FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(BUILD)/fuzzers/%)
+$(FUZZ_OBJ): $(GEN)/cflags.stamp
+$(BUILD)/libpp5-fuzz.a: $(FUZZ_LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+$(BUILD)/fuzzers/fuzz_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/common.o \
+                         $(BUILD)/libpp5-fuzz.a $(GEN)/ldflags.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(OPT) -fsanitize=fuzzer -o $@ $(filter %.o %.a,$^) $(LDLIBS_ALL)
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(FUZZ_OBJ:.o=.d)
 
 # The firmware boundary at link time.  The GP/PP programs (FW_OBJ) are
 # partially linked into one object (ld -r resolves what they call in each
@@ -298,6 +347,34 @@ bench: deps-check
 bench-peers: deps-check
 	@$(MAKE) --no-print-directory $(PP5_BIN)
 	./$(PP5_BIN) bench --peers
+
+# `make fuzz FUZZ_SECONDS=N [FUZZ_TARGETS="volume_nrrd trace_read"]`: builds
+# every target with clang-14 (SAN=fuzz) and runs each for N seconds over its
+# seed corpus (tests/fuzz/corpus/NAME, new inputs go to build/fuzz/corpus);
+# tests/fuzz/run fails on any crash, leak, timeout or sanitizer report and
+# prints executions and edges covered per target.  Not needed by make test.
+FUZZ_SECONDS ?= 60
+FUZZ_PKGS := clang-14 libclang-rt-14-dev
+fuzz: deps-check fuzz-deps
+	@$(MAKE) --no-print-directory SAN=fuzz fuzz-build
+	tests/fuzz/run $(FUZZ_SECONDS) build/fuzz/fuzzers $(FUZZ_TARGETS)
+
+fuzz-build: $(FUZZ_BIN)
+
+fuzz-deps:
+	@$(MAKE) --no-print-directory deps-check DEB_PKGS="$(FUZZ_PKGS)"
+
+# `make soak`: the long runs (not in CI): 30 minutes of trace replayed in
+# timing-only mode through the emulated machine, and 10 minutes of live HID
+# recording from an emulated device (umockdev-run), both under
+# AddressSanitizer, printing peak RSS at the start and the end of each.
+# SOAK_REPLAY_S / SOAK_LIVE_S shorten them for a trial.
+SOAK_REPLAY_S ?= 1800
+SOAK_LIVE_S ?= 600
+soak: deps-check
+	@$(MAKE) --no-print-directory SAN=1 build/san/pp5-tests build/san/pp5
+	PP5_SOAK=1 PP5_TEST_TIMEOUT_S=14400 PP5_SOAK_REPLAY_S=$(SOAK_REPLAY_S) \
+	    PP5_SOAK_LIVE_S=$(SOAK_LIVE_S) PP5_BIN=./build/san/pp5 build/san/pp5-tests soak_
 
 deps:
 	@if [ "$$(id -u)" = 0 ]; then apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y $(DEB_PKGS); \

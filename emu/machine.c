@@ -368,6 +368,12 @@ pp5_status_t machine_run_frame(machine_t *m, sched_stop_t *stop)
         return st;
     }
     st = sched_run_budget(&m->sched, budget_end, stop);
+    if (st != PP5_OK && *stop == SCHED_STOP_BUDGET_EXCEEDED) {
+        /* Name the parameter that sets the budget, so the user knows what to raise. */
+        char why[900];
+        snprintf(why, sizeof why, "%s", pp5_error_text());
+        st = pp5_fail(st, "frame ran past sim.budget_s = %g s: %s", m->params.sim_budget_s, why);
+    }
     /* Last activity of any unit (events end at deliveries; GPs and renderers
      * may stay busy after their last event). */
     pp5_tick_t end = machine_last_activity(m);

@@ -133,7 +133,7 @@ pp5_status_t sched_run_budget(sched_t *s, pp5_tick_t budget_end, sched_stop_t *r
     if (s->describe_busy) {
         s->describe_busy(s->describe_ctx, busy, sizeof busy);
     }
-    return pp5_fail(PP5_E_RANGE, "emulated-time budget of %.6g s (run from %.6g s to %.6g s) "
+    return pp5_fail(PP5_E_MACHINE, "emulated-time budget of %.6g s (run from %.6g s to %.6g s) "
                     "exceeded with %zu events pending; busy: %s",
                     ticks_to_s(budget_end - started), ticks_to_s(started), ticks_to_s(budget_end),
                     s->count, busy[0] ? busy : "(no unit description)");

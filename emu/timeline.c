@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "util/json.h"
+#include "util/outfile.h"
 
 void timeline_init(timeline_t *t)
 {
@@ -55,10 +56,11 @@ pp5_status_t timeline_span(timeline_t *t, uint32_t tid, const char *name, pp5_ti
 
 pp5_status_t timeline_write(const timeline_t *t, const char *path)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        return pp5_fail(PP5_E_IO, "cannot write timeline %s", path);
+    outfile_t o;     /* a temporary, renamed over `path` once complete */
+    if (outfile_open(&o, path, false) != PP5_OK) {
+        return pp5_fail(PP5_E_IO, "cannot write timeline %s: %s", path, pp5_error_text());
     }
+    FILE *f = o.f;
     json_writer_t j;
     json_init(&j, f, false);
     json_begin_object(&j);
@@ -124,8 +126,8 @@ pp5_status_t timeline_write(const timeline_t *t, const char *path)
     json_end_array(&j);
     json_end_object(&j);
     fputc('\n', f);
-    if (fclose(f) != 0) {
-        return pp5_fail(PP5_E_IO, "error writing timeline %s", path);
+    if (outfile_commit(&o) != PP5_OK) {
+        return pp5_fail(PP5_E_IO, "timeline: %s", pp5_error_text());
     }
     return PP5_OK;
 }

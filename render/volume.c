@@ -2,6 +2,7 @@
  * volume_load's choice of loader from the file name. */
 #include "volume.h"
 #include "volume_io.h"
+#include "input_limits.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,10 +20,9 @@ pp5_status_t volume_check_dims(const char *what, long long nx, long long ny, lon
     /* Each side is <= 4096, so the product fits in 64 bits without overflow. */
     unsigned long long voxels = (unsigned long long)nx * (unsigned long long)ny *
                                 (unsigned long long)nz;
-    if (voxels > VOLUME_MAX_VOXELS)
-        return pp5_fail(PP5_E_RANGE, "%s: %lldx%lldx%lld = %llu voxels exceeds the limit of %llu",
-                        what, nx, ny, nz, voxels, (unsigned long long)VOLUME_MAX_VOXELS);
-    return PP5_OK;
+    char where[700];
+    snprintf(where, sizeof where, "%.600s: %lldx%lldx%lld", what, nx, ny, nz);
+    return pp5_limit_check(PP5_LIMIT_VOXELS, voxels, where);
 }
 
 pp5_status_t volume_alloc(volume_t *v, int nx, int ny, int nz)
@@ -216,8 +216,11 @@ pp5_status_t volume_load_info(const char *path, const volume_raw_spec_t *raw, vo
     /* Raw files whose name states the layout, as in shared/data:
      * cthead_256x256x113_u16be.raw.gz. */
     volume_raw_spec_t spec;
-    if (volume_raw_spec_from_name(path, &spec) == PP5_OK)
+    pp5_status_t named = volume_raw_spec_from_name(path, &spec);
+    if (named == PP5_OK)
         return load_raw_info(path, &spec, out, info);
+    if (named == PP5_E_RANGE)
+        return named;      /* the name states a layout over the limits: say so */
     if (!file_exists(path))
         return pp5_fail(PP5_E_IO, "%s: no such file (and no slice series %s.1, %s.2, ...)", path,
                         path, path);
@@ -334,10 +337,11 @@ pp5_status_t volume_parse_size3(const char *opt, const char *text, int *nx, int 
             return pp5_fail(PP5_E_CONFIG, "%s: side %ld is outside 1..%d", opt, v[a],
                             VOLUME_MAX_SIDE);
     }
-    if ((unsigned long long)v[0] * (unsigned long long)v[1] * (unsigned long long)v[2] >
-        VOLUME_MAX_VOXELS)
-        return pp5_fail(PP5_E_CONFIG, "%s: %s has more than %llu voxels", opt, text,
-                        (unsigned long long)VOLUME_MAX_VOXELS);
+    char where[300];
+    snprintf(where, sizeof where, "%s %.200s", opt, text);
+    if (pp5_limit_check(PP5_LIMIT_VOXELS, (uint64_t)v[0] * (uint64_t)v[1] * (uint64_t)v[2],
+                        where) != PP5_OK)
+        return PP5_E_CONFIG;
     *nx = (int)v[0];
     *ny = (int)v[1];
     *nz = (int)v[2];

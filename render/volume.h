@@ -13,10 +13,10 @@
 #include <stdint.h>
 #include "status.h"
 
-/* Largest accepted side and voxel count: far beyond any data pp5 expects,
- * small enough that an absurd header is refused before any allocation. */
+/* Largest accepted side: far beyond any data pp5 expects.  The voxel count is
+ * bounded by the PP5_MAX_VOXELS limit (input_limits.h), which a user can
+ * raise, so an absurd header is refused before any allocation. */
 #define VOLUME_MAX_SIDE 4096
-#define VOLUME_MAX_VOXELS (1024ull * 1024ull * 1024ull)
 
 typedef enum { VOXEL_U8, VOXEL_I8, VOXEL_U16, VOXEL_I16, VOXEL_U32, VOXEL_I32, VOXEL_F32,
                VOXEL_F64 } voxel_type_t;

@@ -10,6 +10,7 @@
 #include "volume.h"
 #include "pp5_features.h"
 #include "volume_io.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <math.h>
@@ -124,6 +125,9 @@ pp5_status_t volume_load_nrrd(const char *path, volume_t *out, volume_file_info_
     if (!exists)
         return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno));
     fclose(exists);
+    pp5_status_t pre = volume_nrrd_precheck(path);
+    if (pre != PP5_OK)
+        return pre;
     Nrrd *n = nrrdNew();
     NrrdIoState *nio = nrrdIoStateNew();
     if (!n || !nio) {
@@ -204,9 +208,25 @@ pp5_status_t volume_save_nrrd(const volume_t *v, const char *path)
         return teem_failure(PP5_E_IO, path, "cannot describe volume");
     }
     nrrdAxisInfoSet_va(n, nrrdAxisInfoSpacing, v->spacing[0], v->spacing[1], v->spacing[2]);
-    pp5_status_t st = PP5_OK;
-    if (nrrdSave(path, n, NULL))
+    /* Teem writes a temporary beside `path` (its name keeps the .nrrd ending,
+     * which tells Teem the format), renamed once complete.  A .nhdr would name
+     * its data file after the temporary, so it is written in place. */
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, true);
+    if (st != PP5_OK) {
+        nrrdNix(n);
+        return st;
+    }
+    bool detached = strlen(path) > 5 && strcasecmp(path + strlen(path) - 5, ".nhdr") == 0;
+    outfile_release_stream(&o);
+    if (detached)
+        outfile_discard(&o);
+    if (nrrdSave(detached ? path : outfile_write_path(&o), n, NULL)) {
         st = teem_failure(PP5_E_IO, path, "cannot write NRRD");
+        outfile_discard(&o);
+    } else if (!detached) {
+        st = outfile_commit(&o);
+    }
     nrrdNix(n);
     return st;
 }

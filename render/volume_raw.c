@@ -7,6 +7,7 @@
  * dimensions or type are wrong (a silently wrong volume is worse than none). */
 #include "volume.h"
 #include "volume_io.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <math.h>
@@ -231,9 +232,10 @@ pp5_status_t volume_load_raw(const char *path, const volume_raw_spec_t *raw, vol
 
 pp5_status_t volume_save_raw_f32(const volume_t *v, const char *path)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot create: %s", path, strerror(errno));
+    outfile_t o;     /* a temporary beside `path`, renamed when complete */
+    pp5_status_t st = outfile_open(&o, path, true);
+    if (st != PP5_OK)
+        return st;
     size_t n = volume_voxel_count(v);
     uint8_t buf[4096];
     size_t fill = 0;
@@ -244,15 +246,15 @@ pp5_status_t volume_save_raw_f32(const volume_t *v, const char *path)
         for (int b = 0; b < 4; b++)
             buf[fill++] = (uint8_t)(bits >> (8 * b));   /* little-endian on every host */
         if (fill == sizeof buf) {
-            ok = fwrite(buf, 1, fill, f) == fill;
+            ok = fwrite(buf, 1, fill, o.f) == fill;
             fill = 0;
         }
     }
     if (ok && fill)
-        ok = fwrite(buf, 1, fill, f) == fill;
-    if (fclose(f) != 0)
-        ok = false;
-    if (!ok)
+        ok = fwrite(buf, 1, fill, o.f) == fill;
+    if (!ok) {
+        outfile_discard(&o);
         return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    }
+    return outfile_commit(&o);
 }

@@ -235,7 +235,7 @@ TEST(events_cli_writes_tsv_and_sidecar_and_rejects_bad_input)
         free(stdout_text);
     }
     snprintf(args, sizeof args, "trace events '%s/none.trace' --out '%s'", dir, out);
-    CHECK_EQ(pp5_test_run_cli(args, NULL, log), 1);
+    CHECK_EQ(pp5_test_run_cli(args, NULL, log), PP5_EXIT_IO);
     char *err = pp5_test_read_file(log);
     CHECK(err && strstr(err, "none.trace"));
     free(err);

@@ -203,7 +203,7 @@ TEST(machine_budget_exceeded_names_busy_units)
     machine_t m;
     sched_stop_t why;
     pp5_status_t st = run_pattern(&m, &p, &why);
-    CHECK_EQ(st, PP5_E_RANGE);
+    CHECK_EQ(st, PP5_E_MACHINE);
     CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "budget") != NULL);
     CHECK(strstr(pp5_error_text(), "renderer") != NULL || strstr(pp5_error_text(), "GP") != NULL ||

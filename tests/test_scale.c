@@ -227,7 +227,7 @@ TEST(scale_sweep_shards_merged_equal_the_single_run)
     /* A part that lacks units alone is not the whole grid: an error, and no output. */
     snprintf(args, sizeof args, "merge %s/part%d.units --out %s/half.csv", dir,
              held[0] < 4 ? 0 : 1, dir);
-    CHECK_EQ(pp5_test_run_cli(args, NULL, NULL), 1);
+    CHECK_EQ(pp5_test_run_cli(args, NULL, NULL), PP5_EXIT_INPUT);
     snprintf(args, sizeof args, "%s/half.csv", dir);
     CHECK(access(args, F_OK) != 0);
 }

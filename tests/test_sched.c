@@ -113,7 +113,7 @@ TEST(sched_budget_exceeded_names_busy_units)
     sched_at(&s, 2000, 0, record, &l, 1);
     sched_stop_t why;
     pp5_status_t st = sched_run_budget(&s, 1000, &why);
-    CHECK_EQ(st, PP5_E_RANGE);
+    CHECK_EQ(st, PP5_E_MACHINE);
     CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "renderer 3") != NULL);
     sched_free(&s);

@@ -68,7 +68,7 @@ TEST(machine_setup_budget_bounds_setup_not_frame_budget)
     p.sim_setup_budget_s = 1e-6;
     REQUIRE(machine_init(&m, &p) == PP5_OK);
     REQUIRE(machine_load_all(&m, &testpattern_program) == PP5_OK);
-    CHECK_EQ(machine_run_setup(&m, &why), PP5_E_RANGE);
+    CHECK_EQ(machine_run_setup(&m, &why), PP5_E_MACHINE);
     CHECK_EQ(why, SCHED_STOP_BUDGET_EXCEEDED);
     CHECK(strstr(pp5_error_text(), "sim.setup_budget_s") != NULL);
     machine_free(&m);

@@ -27,7 +27,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "emu/util/status.h"
 #include "harness.h"
+#include "soak.h"
 #include "tracker/trace_file.h"
 
 #ifndef PP5_HAVE_UMOCKDEV
@@ -910,7 +912,8 @@ static void polhemus_failure(after_end_t after, const char *needle)
     REQUIRE(child_start(&c, dir, args));
     int rc = child_wait(&c, CHILD_DEADLINE_S);
     bed_close(&b);
-    CHECK_MSG(rc == 1, "pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
+              rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
     if (!file_contains(c.err, needle))
         show_stderr(&c);
@@ -1076,7 +1079,8 @@ static void hid_failure(bool disconnect, int n_good, int n_bad, const char *need
     }
     int rc = child_wait(&c, CHILD_DEADLINE_S);
     bed_close(&b);
-    CHECK_MSG(rc == 1, "pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
+              rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
     if (!file_contains(c.err, needle))
         show_stderr(&c);
@@ -1321,9 +1325,10 @@ TEST(track_umockdev_run_replays_fixture_files)
     child_t c;
     REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
     int rc = child_wait(&c, CHILD_DEADLINE_S);
-    CHECK_MSG(rc == 1, "umockdev-run pp5 exited %d, expected 1 (-1: hang, killed)", rc);
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "umockdev-run pp5 exited %d, expected %d (device error; "
+              "-1: hang, killed)", rc, PP5_EXIT_DEVICE);
     CHECK_MSG(file_contains(c.err, "timeout"), "stderr lacks 'timeout'");
-    if (rc != 1 || !file_contains(c.err, "timeout"))
+    if (rc != PP5_EXIT_DEVICE || !file_contains(c.err, "timeout"))
         show_stderr(&c);
     trace_t got;
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
@@ -1331,6 +1336,72 @@ TEST(track_umockdev_run_replays_fixture_files)
     CHECK_EQ(got.count, 20);
     CHECK_NEAR(got.header.sample_rate_hz, EMU_RATE_HZ, 0);
     check_gaze_prefix(&got, &want, 20);
+    trace_free(&got);
+    trace_free(&want);
+}
+
+/* Soak (`make soak`; hidden unless PP5_SOAK=1): PP5_SOAK_LIVE_S seconds
+ * (default 600) of live HID recording, the path `pp5 track record --device
+ * hid` takes, from the emulated eye tracker under umockdev-run, whose script
+ * sends one 65-byte report every 4 ms in real time.  Memory is sampled every
+ * two seconds; the peak RSS over the first and the last tenth must agree
+ * within 5 % + 2 MB, and every report must reach the file. */
+TEST(soak_live_hid_recording_from_an_emulated_device)
+{
+    if (system("command -v umockdev-run >/dev/null 2>&1") != 0)
+        SKIP("UMOCKDEV-RUN NOT INSTALLED: the live soak did not run (apt-get install umockdev)");
+    const char *v = getenv("PP5_SOAK_LIVE_S");
+    double seconds = v && atof(v) > 0 ? atof(v) : 600;
+    size_t n = (size_t)(seconds * EMU_RATE_HZ);
+    const char *dir = pp5_test_outdir();
+    char in[600], outp[600], prefix[2400], args[800];
+    snprintf(in, sizeof in, "%s/gaze-in-soak.trace", dir);
+    trace_t want;
+    make_trace(in, n, false, &want);
+    REQUIRE(write_fixture_files(dir, &want, n));
+    snprintf(prefix, sizeof prefix,
+             "umockdev-run -d %s/trackers.umockdev -i /dev/hidraw0=%s/eyetracker.ioctl "
+             "-s /dev/hidraw0=%s/eyetracker.script --",
+             dir, dir, dir);
+    snprintf(outp, sizeof outp, "%s/soak-out.trace", dir);
+    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 2000", outp);
+    child_t c;
+    REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
+    soak_series_t ser = {0};
+    struct timespec t0, now;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    pid_t pp5 = -1;
+    double wall = 0;
+    while (child_running(&c) && wall < seconds + 300) {
+        if (pp5 < 0)
+            pp5 = soak_find_child(c.pid);      /* umockdev-run's child is pp5 */
+        long rss, hwm;
+        if (pp5 > 0 && soak_read_memory(pp5, &rss, &hwm))
+            soak_series_add(&ser, wall, rss, hwm);
+        sleep_ms(2000);
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        wall = (double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec);
+    }
+    int rc = child_wait(&c, 5);
+    /* The script runs out, and the recorder stops on its timeout (a device error). */
+    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d", rc, PP5_EXIT_DEVICE);
+    if (rc != PP5_EXIT_DEVICE)
+        show_stderr(&c);
+    trace_t got;
+    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
+    CHECK_EQ(got.count, n);
+    check_gaze_prefix(&got, &want, n < got.count ? n : got.count);
+    REQUIRE(ser.n >= 10);
+    char csv[700];
+    snprintf(csv, sizeof csv, "%s/rss.csv", dir);
+    CHECK(soak_series_write_csv(&ser, csv));
+    long first = soak_peak_rss(&ser, 0, 0.1 * wall), last = soak_peak_rss(&ser, 0.9 * wall, wall + 1);
+    printf("    soak live: %zu reports (%.0f s at %d Hz) recorded in %.0f s wall; peak RSS %ld kB "
+           "over the first tenth, %ld kB over the last tenth; VmHWM at the end %ld kB (%s)\n",
+           got.count, seconds, (int)EMU_RATE_HZ, wall, first, last, ser.s[ser.n - 1].hwm_kb, csv);
+    CHECK_MSG((double)last <= 1.05 * (double)first + 2048, "RSS rose from %ld kB to %ld kB",
+              first, last);
+    soak_series_free(&ser);
     trace_free(&got);
     trace_free(&want);
 }

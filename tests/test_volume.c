@@ -338,7 +338,7 @@ TEST(vol_cli_info_and_phantom)
     CHECK_MSG(strstr(text, "range:    1 .. 24") != NULL, "%s", text ? text : "");
     free(text);
     snprintf(args, sizeof args, "volume info %s --dims 2x3x5 --type u8", raw);
-    CHECK_EQ(pp5_test_run_cli(args, outp, errp), 1);
+    CHECK_EQ(pp5_test_run_cli(args, outp, errp), 3);   /* bad input */
     text = pp5_test_read_file(errp);
     REQUIRE(text != NULL);
     CHECK_MSG(strstr(text, "r.bin") && strstr(text, "truncated"), "%s", text ? text : "");

@@ -65,6 +65,12 @@ pp5_status_t import_commit(trace_t *t, pp5_status_t st, trace_t *out);
 /* Next line of text at *pos (NUL-terminated copy in buf, CR stripped); false at the end. */
 bool import_next_line(const char *text, size_t len, size_t *pos, char *buf, size_t size,
                       bool *too_long);
+/* A malloc'd line buffer of PP5_MAX_LINE_BYTES + 1 bytes (its size in *size);
+ * NULL with the error set when out of memory. */
+char *import_line_buffer(size_t *size);
+/* The error for a line longer than the limit: names the input, line and limit
+ * (import_next_line's too_long; trace_slurp refuses such files earlier). */
+pp5_status_t import_line_too_long(const char *name, int lineno);
 /* Splits at `sep` (and strips quotes for CSV); returns the field count or -1 if > max. */
 int import_split(char *line, char sep, char **fields, int max);
 bool import_parse_double(const char *s, double *out);

@@ -3,11 +3,13 @@
 #include "import.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "angles.h"
+#include "input_limits.h"
 
 void import_defaults(import_options_t *o)
 {
@@ -154,7 +156,7 @@ pp5_status_t import_file(const char *path, import_format_t format, const import_
 {
     char *text;
     size_t len;
-    pp5_status_t st = trace_slurp(path, (size_t)1 << 31, &text, &len);
+    pp5_status_t st = trace_slurp(path, 0, &text, &len);
     if (st != PP5_OK)
         return st;
     if (format == IMPORT_AUTO) {
@@ -202,4 +204,20 @@ pp5_status_t import_commit(trace_t *t, pp5_status_t st, trace_t *out)
     t->complete = true;
     *out = *t;
     return PP5_OK;
+}
+
+char *import_line_buffer(size_t *size)
+{
+    *size = (size_t)pp5_limit(PP5_LIMIT_LINE_BYTES) + 1;
+    char *buf = malloc(*size);
+    if (!buf)
+        pp5_fail(PP5_E_NOMEM, "out of memory for a %zu-byte line buffer", *size);
+    return buf;
+}
+
+pp5_status_t import_line_too_long(const char *name, int lineno)
+{
+    char where[600];
+    snprintf(where, sizeof where, "%.500s:%d: the line", name, lineno);
+    return pp5_limit_exceeded(PP5_LIMIT_LINE_BYTES, where);
 }

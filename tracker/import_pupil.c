@@ -18,7 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LINE_MAX_BYTES 65536
 #define MAX_FIELDS 256
 
 static int col(char **names, int n, const char *want)
@@ -35,134 +34,146 @@ static int cmp_i64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The reader's state while it walks one file. */
+typedef struct {
+    const import_options_t *o;
+    const char *name;
+    int lineno, ncols;
+    int c_t, c_conf, c_x, c_y, c_on;   /* columns (-1 when absent) */
+    bool surface;                       /* gaze_positions_on_surface_<name>.csv */
+    double t0, prev;
+    trace_t t;
+} pupil_reader_t;
+
+static pp5_status_t parse_header_row(pupil_reader_t *r, char *header, char **names)
+{
+    int n = import_split(header, ',', names, MAX_FIELDS);
+    r->ncols = n;
+    r->c_t = col(names, n, "gaze_timestamp");
+    r->c_conf = col(names, n, "confidence");
+    r->c_x = col(names, n, "norm_pos_x");
+    r->c_y = col(names, n, "norm_pos_y");
+    r->c_on = -1;
+    if (r->c_x < 0 && col(names, n, "x_norm") >= 0) {
+        r->surface = true;
+        r->c_x = col(names, n, "x_norm");
+        r->c_y = col(names, n, "y_norm");
+        r->c_on = col(names, n, "on_surf");
+    }
+    if (n < 3 || r->c_t < 0 || r->c_x < 0 || r->c_y < 0)
+        return pp5_fail(PP5_E_FORMAT, "%s: missing column '%s' (gaze_positions.csv needs "
+                        "gaze_timestamp, norm_pos_x, norm_pos_y)", r->name,
+                        r->c_t < 0 ? "gaze_timestamp" : r->c_x < 0 ? "norm_pos_x" : "norm_pos_y");
+    return PP5_OK;
+}
+
+/* The row's time in s (Pupil Time), never going back. */
+static pp5_status_t row_time(pupil_reader_t *r, const char *field, double *ts)
+{
+    if (!import_parse_double(field, ts) || !isfinite(*ts))
+        return pp5_fail(PP5_E_FORMAT, "%s:%d: gaze_timestamp '%s' is not a finite number (NaN "
+                        "is not allowed)", r->name, r->lineno, field);
+    if (!isnan(r->prev) && *ts < r->prev)
+        return pp5_fail(PP5_E_FORMAT, "%s:%d: gaze_timestamp %.6f is before the previous one "
+                        "(%.6f): out-of-order time", r->name, r->lineno, *ts, r->prev);
+    r->prev = *ts;
+    if (isnan(r->t0))
+        r->t0 = *ts;
+    if ((*ts - r->t0) * 1e9 > 1e17)
+        return pp5_fail(PP5_E_RANGE, "%s:%d: timestamps span more than 3 years", r->name,
+                        r->lineno);
+    return PP5_OK;
+}
+
+/* One data row (split into f) as a sample. */
+static pp5_status_t parse_row(pupil_reader_t *r, char **f, int n)
+{
+    if (n != r->ncols)
+        return pp5_fail(PP5_E_FORMAT, "%s:%d: %d fields, the header has %d (truncated?)",
+                        r->name, r->lineno, n, r->ncols);
+    double ts, nx, ny, conf = 1.0;
+    pp5_status_t st = row_time(r, f[r->c_t], &ts);
+    if (st != PP5_OK)
+        return st;
+    if (!import_parse_double(f[r->c_x], &nx) || !import_parse_double(f[r->c_y], &ny))
+        return pp5_fail(PP5_E_FORMAT, "%s:%d: gaze '%s','%s' is not a number", r->name,
+                        r->lineno, f[r->c_x], f[r->c_y]);
+    if (r->c_conf >= 0 && (!import_parse_double(f[r->c_conf], &conf) || !(conf >= 0 && conf <= 1)))
+        return pp5_fail(PP5_E_FORMAT, "%s:%d: confidence '%s' is not in 0..1", r->name,
+                        r->lineno, f[r->c_conf]);
+    gaze_sample_t s;
+    gaze_sample_invalid(&s, llround((ts - r->t0) * 1e9));
+    const char *on_text = r->c_on >= 0 ? f[r->c_on] : "True";
+    bool on = strcmp(on_text, "True") == 0 || strcmp(on_text, "true") == 0 ||
+              strcmp(on_text, "1") == 0;
+    if (conf >= r->o->pupil_min_confidence && on && isfinite(nx) && isfinite(ny)) {
+        s.x_px = nx * r->o->source_width_px;
+        s.y_px = (1.0 - ny) * r->o->source_height_px;
+        s.flags = GAZE_FLAG_VALID;
+    }
+    return trace_append(&r->t, &s);
+}
+
+/* The rate from the median interval, then the header. */
+static pp5_status_t finish(pupil_reader_t *r)
+{
+    trace_t *t = &r->t;
+    if (t->count < 2)
+        return pp5_fail(PP5_E_FORMAT, "%s: fewer than 2 gaze rows", r->name);
+    int64_t *d = malloc((t->count - 1) * sizeof *d);
+    if (!d)
+        return pp5_fail(PP5_E_NOMEM, "out of memory");
+    size_t k = 0;
+    for (size_t i = 1; i < t->count; i++)
+        if (t->samples[i].t_ns > t->samples[i - 1].t_ns)
+            d[k++] = t->samples[i].t_ns - t->samples[i - 1].t_ns;
+    if (k == 0) {
+        free(d);
+        return pp5_fail(PP5_E_FORMAT, "%s: timestamps never advance", r->name);
+    }
+    qsort(d, k, sizeof *d, cmp_i64);
+    t->header.sample_rate_hz = 1e9 / (double)d[k / 2];
+    free(d);
+    import_apply_geometry(r->o, &t->header.geometry);
+    snprintf(t->header.source, sizeof t->header.source, "Pupil Labs %s %s",
+             r->surface ? "surface gaze" : "gaze_positions", r->name);
+    snprintf(t->header.tracker, sizeof t->header.tracker, "Pupil Labs Core (confidence >= %g)",
+             r->o->pupil_min_confidence);
+    pp5_status_t st = trace_header_check(&t->header);
+    return st == PP5_OK ? st : pp5_fail(st, "%s: %s", r->name, pp5_error_text());
+}
+
 pp5_status_t import_pupil(const char *text, size_t len, const char *name,
                           const import_options_t *o, trace_t *out)
 {
     if (!(o->source_width_px > 0 && o->source_height_px > 0))
         return pp5_fail(PP5_E_CONFIG, "%s: Pupil Labs gaze is normalised: pass --source-px WxH "
                         "(the surface or scene image size) and its mm + distance", name);
-    char *line = malloc(LINE_MAX_BYTES), *header = malloc(LINE_MAX_BYTES);
+    pupil_reader_t r = {.o = o, .name = name, .lineno = 1, .t0 = NAN, .prev = NAN};
+    trace_init(&r.t);
+    size_t size, pos = 0;
+    char *line = import_line_buffer(&size), *header = import_line_buffer(&size);
     char **names = malloc(MAX_FIELDS * sizeof *names), **f = malloc(MAX_FIELDS * sizeof *f);
-    trace_t t;
-    trace_init(&t);
     pp5_status_t st = PP5_OK;
-    size_t pos = 0;
     bool too_long;
-    int lineno = 1;
-    double t0 = NAN, prev = NAN;
-    if (!line || !header || !names || !f) {
+    if (!line || !header || !names || !f)
         st = pp5_fail(PP5_E_NOMEM, "out of memory");
-        goto done;
-    }
-    if (!import_next_line(text, len, &pos, header, LINE_MAX_BYTES, &too_long) || too_long) {
+    else if (!import_next_line(text, len, &pos, header, size, &too_long) || too_long)
         st = pp5_fail(PP5_E_FORMAT, "%s: empty file or header too long", name);
-        goto done;
+    else
+        st = parse_header_row(&r, header, names);
+    while (st == PP5_OK && import_next_line(text, len, &pos, line, size, &too_long)) {
+        r.lineno++;
+        if (too_long)
+            st = import_line_too_long(name, r.lineno);
+        else if (line[0] != '\0')
+            st = parse_row(&r, f, import_split(line, ',', f, MAX_FIELDS));
     }
-    int ncols = import_split(header, ',', names, MAX_FIELDS);
-    int c_t = col(names, ncols, "gaze_timestamp");
-    int c_conf = col(names, ncols, "confidence");
-    int c_x = col(names, ncols, "norm_pos_x"), c_y = col(names, ncols, "norm_pos_y");
-    int c_on = -1;
-    bool surface = false;
-    if (c_x < 0 && col(names, ncols, "x_norm") >= 0) {
-        surface = true;
-        c_x = col(names, ncols, "x_norm");
-        c_y = col(names, ncols, "y_norm");
-        c_on = col(names, ncols, "on_surf");
-    }
-    if (ncols < 3 || c_t < 0 || c_x < 0 || c_y < 0) {
-        st = pp5_fail(PP5_E_FORMAT, "%s: missing column '%s' (gaze_positions.csv needs "
-                      "gaze_timestamp, norm_pos_x, norm_pos_y)", name,
-                      c_t < 0 ? "gaze_timestamp" : c_x < 0 ? "norm_pos_x" : "norm_pos_y");
-        goto done;
-    }
-    double W = o->source_width_px, H = o->source_height_px;
-    while (st == PP5_OK && import_next_line(text, len, &pos, line, LINE_MAX_BYTES, &too_long)) {
-        lineno++;
-        if (too_long) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: line too long", name, lineno);
-            break;
-        }
-        if (line[0] == '\0')
-            continue;
-        int n = import_split(line, ',', f, MAX_FIELDS);
-        if (n != ncols) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: %d fields, the header has %d (truncated?)", name,
-                          lineno, n, ncols);
-            break;
-        }
-        double ts, nx, ny, conf = 1.0;
-        if (!import_parse_double(f[c_t], &ts) || !isfinite(ts)) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: gaze_timestamp '%s' is not a finite number (NaN "
-                          "is not allowed)", name, lineno, f[c_t]);
-            break;
-        }
-        if (!isnan(prev) && ts < prev) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: gaze_timestamp %.6f is before the previous "
-                          "one (%.6f): out-of-order time", name, lineno, ts, prev);
-            break;
-        }
-        prev = ts;
-        if (isnan(t0))
-            t0 = ts;
-        if ((ts - t0) * 1e9 > 1e17) {
-            st = pp5_fail(PP5_E_RANGE, "%s:%d: timestamps span more than 3 years", name, lineno);
-            break;
-        }
-        bool ok = import_parse_double(f[c_x], &nx) && import_parse_double(f[c_y], &ny);
-        if (!ok) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: gaze '%s','%s' is not a number", name, lineno,
-                          f[c_x], f[c_y]);
-            break;
-        }
-        if (c_conf >= 0 && (!import_parse_double(f[c_conf], &conf) || !(conf >= 0 && conf <= 1))) {
-            st = pp5_fail(PP5_E_FORMAT, "%s:%d: confidence '%s' is not in 0..1", name, lineno,
-                          f[c_conf]);
-            break;
-        }
-        gaze_sample_t s;
-        gaze_sample_invalid(&s, llround((ts - t0) * 1e9));
-        bool on = c_on < 0 || strcmp(f[c_on], "True") == 0 || strcmp(f[c_on], "true") == 0 ||
-                  strcmp(f[c_on], "1") == 0;
-        if (conf >= o->pupil_min_confidence && on && isfinite(nx) && isfinite(ny)) {
-            s.x_px = nx * W;
-            s.y_px = (1.0 - ny) * H;
-            s.flags = GAZE_FLAG_VALID;
-        }
-        st = trace_append(&t, &s);
-    }
-    if (st == PP5_OK && t.count < 2)
-        st = pp5_fail(PP5_E_FORMAT, "%s: fewer than 2 gaze rows", name);
-    if (st == PP5_OK) {
-        int64_t *d = malloc((t.count - 1) * sizeof *d);
-        size_t k = 0;
-        if (!d) {
-            st = pp5_fail(PP5_E_NOMEM, "out of memory");
-            goto done;
-        }
-        for (size_t i = 1; i < t.count; i++)
-            if (t.samples[i].t_ns > t.samples[i - 1].t_ns)
-                d[k++] = t.samples[i].t_ns - t.samples[i - 1].t_ns;
-        if (k == 0) {
-            free(d);
-            st = pp5_fail(PP5_E_FORMAT, "%s: timestamps never advance", name);
-            goto done;
-        }
-        qsort(d, k, sizeof *d, cmp_i64);
-        t.header.sample_rate_hz = 1e9 / (double)d[k / 2];
-        free(d);
-        import_apply_geometry(o, &t.header.geometry);
-        snprintf(t.header.source, sizeof t.header.source, "Pupil Labs %s %s",
-                 surface ? "surface gaze" : "gaze_positions", name);
-        snprintf(t.header.tracker, sizeof t.header.tracker, "Pupil Labs Core (confidence >= %g)",
-                 o->pupil_min_confidence);
-        if ((st = trace_header_check(&t.header)) != PP5_OK)
-            st = pp5_fail(st, "%s: %s", name, pp5_error_text());
-    }
-done:
+    if (st == PP5_OK)
+        st = finish(&r);
     free(line);
     free(header);
     free(names);
     free(f);
-    return import_commit(&t, st, out);
+    return import_commit(&r.t, st, out);
 }

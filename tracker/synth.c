@@ -4,6 +4,7 @@
  * a small state machine (fixate, saccade, pursue, blink); noise is added last
  * and the result is projected onto the display's pixels. */
 #include "synth.h"
+#include "input_limits.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -454,8 +455,8 @@ pp5_status_t synth_generate_truth(const synth_params_t *p, trace_t *out, synth_t
     if (st != PP5_OK)
         return st;
     double n_d = floor(p->seconds * p->rate_hz) + 1;
-    if (n_d > (double)TRACE_MAX_SAMPLES)
-        return pp5_fail(PP5_E_RANGE, "synth: %.0f samples is too many", n_d);
+    if (n_d > (double)pp5_limit(PP5_LIMIT_TRACE_SAMPLES))
+        return pp5_limit_check(PP5_LIMIT_TRACE_SAMPLES, (uint64_t)n_d, "synth");
     size_t n = (size_t)n_d;
 
     trace_t t;

@@ -14,6 +14,8 @@
  * The parser reads everything into a temporary trace_t and hands it over only
  * when the whole file validated (STYLE.md L9: validate, then commit). */
 #include "trace_file.h"
+#include "input_limits.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -49,8 +51,13 @@ pp5_status_t trace_append(trace_t *t, const gaze_sample_t *s)
     if (t->count == t->capacity) {
         size_t cap = t->capacity ? t->capacity * 2 : 1024;
         size_t bytes;
-        if (cap > TRACE_MAX_SAMPLES || !pp5_mul_size(cap, sizeof *t->samples, &bytes))
-            return pp5_fail(PP5_E_NOMEM, "trace has more than %zu samples", TRACE_MAX_SAMPLES);
+        uint64_t max_samples = pp5_limit(PP5_LIMIT_TRACE_SAMPLES);
+        if (t->count >= max_samples)
+            return pp5_limit_check(PP5_LIMIT_TRACE_SAMPLES, (uint64_t)t->count + 1, "trace");
+        if (cap > max_samples)
+            cap = (size_t)max_samples;
+        if (!pp5_mul_size(cap, sizeof *t->samples, &bytes))
+            return pp5_fail(PP5_E_NOMEM, "trace of %zu samples is too large for this host", cap);
         gaze_sample_t *p = realloc(t->samples, bytes);
         if (!p)
             return pp5_fail(PP5_E_NOMEM, "out of memory for %zu samples", cap);
@@ -89,47 +96,71 @@ const char *trace_status_name(uint32_t flags)
 
 /* ------------------------------------------------------------------ reading */
 
+/* Length of the line still open at the end of buf[0..n) (bytes since the last
+ * '\n'), given that `open` bytes of it came before `from`. */
+static size_t open_line_length(const char *buf, size_t from, size_t n, size_t open)
+{
+    for (size_t i = n; i > from; i--)
+        if (buf[i - 1] == '\n')
+            return n - i;
+    return open + (n - from);
+}
+
+static pp5_status_t slurp_fail(gzFile f, char *buf, pp5_status_t st)
+{
+    free(buf);
+    gzclose(f);
+    return st;
+}
+
+/* Reads in chunks so that a hostile file is refused as soon as it breaks a
+ * limit: the whole-text limit, or the line limit (a file of one 100 MB line
+ * stops after the first PP5_MAX_LINE_BYTES, without reading the rest). */
 pp5_status_t trace_slurp(const char *path, size_t max_bytes, char **text, size_t *len)
 {
+    if (max_bytes == 0)
+        max_bytes = (size_t)pp5_limit(PP5_LIMIT_TEXT_BYTES);
+    uint64_t max_line = pp5_limit(PP5_LIMIT_LINE_BYTES);
     gzFile f = gzopen(path, "rb");
     if (!f)
         return pp5_fail(PP5_E_IO, "%s: cannot open: %s", path, strerror(errno ? errno : ENOENT));
-    size_t cap = 1 << 16, n = 0;
+    size_t cap = 1 << 16, n = 0, line = 0;
+    int lineno = 1;
     char *buf = malloc(cap + 1);
-    if (!buf) {
-        gzclose(f);
-        return pp5_fail(PP5_E_NOMEM, "%s: out of memory", path);
-    }
+    if (!buf)
+        return slurp_fail(f, NULL, pp5_fail(PP5_E_NOMEM, "%s: out of memory", path));
     for (;;) {
         if (n == cap) {
-            if (cap >= max_bytes) {
-                free(buf);
-                gzclose(f);
-                return pp5_fail(PP5_E_RANGE, "%s: larger than the %zu-byte limit", path, max_bytes);
-            }
+            if (cap >= max_bytes)
+                return slurp_fail(f, buf, max_bytes == pp5_limit(PP5_LIMIT_TEXT_BYTES)
+                                              ? pp5_limit_exceeded(PP5_LIMIT_TEXT_BYTES, path)
+                                              : pp5_fail(PP5_E_RANGE, "%s is larger than %zu "
+                                                         "bytes", path, max_bytes));
             cap = cap * 2 > max_bytes ? max_bytes : cap * 2;
             char *p = realloc(buf, cap + 1);
-            if (!p) {
-                free(buf);
-                gzclose(f);
-                return pp5_fail(PP5_E_NOMEM, "%s: out of memory", path);
-            }
+            if (!p)
+                return slurp_fail(f, buf, pp5_fail(PP5_E_NOMEM, "%s: out of memory", path));
             buf = p;
         }
-        unsigned want = (unsigned)((cap - n) > (1u << 30) ? (1u << 30) : (cap - n));
+        unsigned want = (unsigned)((cap - n) > (1u << 20) ? (1u << 20) : (cap - n));
         int got = gzread(f, buf + n, want);
         if (got < 0) {
             int zerr;
             const char *msg = gzerror(f, &zerr);
-            pp5_status_t st = pp5_fail(PP5_E_FORMAT, "%s: corrupt or truncated compressed data (%s)",
-                                       path, msg);
-            free(buf);
-            gzclose(f);
-            return st;
+            return slurp_fail(f, buf, pp5_fail(PP5_E_FORMAT, "%s: corrupt or truncated "
+                                               "compressed data (%s)", path, msg));
         }
         if (got == 0)
             break;
+        for (size_t i = n; i < n + (size_t)got; i++)
+            lineno += buf[i] == '\n';
+        line = open_line_length(buf, n, n + (size_t)got, line);
         n += (size_t)got;
+        if (line > max_line) {
+            char where[600];
+            snprintf(where, sizeof where, "%.500s:%d: the line", path, lineno);
+            return slurp_fail(f, buf, pp5_limit_exceeded(PP5_LIMIT_LINE_BYTES, where));
+        }
     }
     /* zlib reports a gzip stream cut short only through gzerror after EOF. */
     int zerr = Z_OK;
@@ -545,7 +576,7 @@ pp5_status_t trace_read_file(const char *path, trace_t *out)
 {
     char *text;
     size_t len;
-    pp5_status_t st = trace_slurp(path, (size_t)1 << 32, &text, &len);
+    pp5_status_t st = trace_slurp(path, 0, &text, &len);
     if (st != PP5_OK)
         return st;
     st = trace_parse(text, len, path, out);
@@ -782,12 +813,26 @@ pp5_status_t trace_writer_abandon(trace_writer_t *w)
 
 pp5_status_t trace_write_file(const char *path, const trace_t *t)
 {
+    /* A whole trace goes to a temporary beside `path`, renamed once its end
+     * line is written: an interrupted write never leaves a short trace under
+     * the real name.  (Live recording keeps its flush-as-you-go file.) */
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    outfile_release_stream(&o);
     trace_writer_t w;
-    pp5_status_t st = trace_writer_open(&w, path, &t->header, t->has_head, t->has_hand);
+    st = trace_writer_open(&w, outfile_write_path(&o), &t->header, t->has_head, t->has_hand);
     for (size_t i = 0; st == PP5_OK && i < t->count; i++)
         st = trace_writer_append(&w, &t->samples[i]);
     pp5_status_t cst = trace_writer_close(&w);
-    return st != PP5_OK ? st : cst;
+    if (st == PP5_OK)
+        st = cst;
+    if (st != PP5_OK) {
+        outfile_discard(&o);
+        return st;
+    }
+    return outfile_commit(&o);
 }
 
 /* ------------------------------------------------------------ gaze source */

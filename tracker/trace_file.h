@@ -16,8 +16,9 @@
 
 #define TRACE_MAGIC "# pp5-trace v1"
 #define TRACE_TEXT_MAX 256
-/* Reading refuses more samples than this (a day at 1000 Hz is 86.4 M). */
-#define TRACE_MAX_SAMPLES ((size_t)200000000)
+/* A trace holds at most the PP5_MAX_TRACE_SAMPLES limit of samples, and a
+ * file read whole at most PP5_MAX_TEXT_BYTES with lines of at most
+ * PP5_MAX_LINE_BYTES (input_limits.h). */
 
 typedef struct {
     char source[TRACE_TEXT_MAX];   /* where the samples came from (file, device, synth command) */
@@ -51,7 +52,9 @@ pp5_status_t trace_read_file(const char *path, trace_t *out);
 pp5_status_t trace_write_file(const char *path, const trace_t *t);
 
 /* Reads a whole file, transparently gunzipping, into a NUL-terminated malloc'd
- * buffer (at most max_bytes).  Shared by the importers. */
+ * buffer of at most max_bytes (0: the PP5_MAX_TEXT_BYTES limit), refusing a
+ * line longer than PP5_MAX_LINE_BYTES as soon as it is read.  Shared by the
+ * importers. */
 pp5_status_t trace_slurp(const char *path, size_t max_bytes, char **text, size_t *len);
 
 /* ---- flush-as-you-go writer (live recording; devices use this) ----

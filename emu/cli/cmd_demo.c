@@ -7,6 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "cliopt.h"
+#include "outfile.h"
 #include "registry.h"
 
 #define DEMO_MAX_ARGS 32
@@ -119,10 +121,11 @@ static int cmd_demo(int argc, char **argv)
             return 2;
         }
     }
-    if (make_dirs(dir) != 0) {
-        fprintf(stderr, "pp5 demo: cannot create %s: %s\n", dir, strerror(errno));
-        return 1;
-    }
+    pp5_status_t st = make_dirs(dir) == 0 ? outpath_check_dir("--out-dir", dir)
+                                          : pp5_fail(PP5_E_IO, "--out-dir: cannot create %s: %s",
+                                                     dir, strerror(errno));
+    if (st != PP5_OK)
+        return cliopt_report("demo", st);
     int total = (int)(sizeof demo_steps / sizeof demo_steps[0]);
     int failed = 0;
     for (int i = 0; i < total; i++) {

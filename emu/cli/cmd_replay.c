@@ -11,6 +11,7 @@
 #include "cliopt.h"
 #include "emu/cli/cmd_replay.h"
 #include "json.h"
+#include "outfile.h"
 #include "registry.h"
 #include "tracker/replay.h"
 #include "tracker/trace_file.h"
@@ -81,7 +82,7 @@ static void usage(FILE *out)
         "                           batch.csv), per-line JSON into --report; --resume,\n"
         "                           --shard K/N and --accounting FILE work as in pp5 sweep, and\n"
         "                           mpirun -n N shares the lines among N ranks with the same\n"
-        "                           outputs.  A line that fails is a row with its error (exit 3)\n"
+        "                           outputs.  A line that fails is a row with its error (exit 8)\n"
         "Examples:\n"
         "  pp5 replay traces/saccades_10s_250hz.trace --predict landing --report r.json\n"
         "  pp5 replay traces/pursuit_10s_250hz.trace --sweep-latency --machine \"gp.count=16\" \\\n"
@@ -108,9 +109,11 @@ static pp5_status_t save_frame(void *ctx, const replay_frame_t *f, const image8_
 
 static pp5_status_t write_csv(const char *path, const replay_result_t *r)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot create", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     fprintf(f, "frame,start_ms,end_ms,display_ms,shown_until_ms,sample_ms,used_x_px,used_y_px,"
                "spot_x_px,spot_y_px,true_x_px,true_y_px,error_deg,inside_ms,valid_ms,frame_ms,"
                "rays,ring_bytes,after_gap\n");
@@ -124,9 +127,7 @@ static pp5_status_t write_csv(const char *path, const replay_result_t *r)
                 q->inside_s * 1e3, q->valid_s * 1e3, q->frame_s * 1e3,
                 (unsigned long long)q->rays, (unsigned long long)q->ring_bytes, q->after_gap ? 1 : 0);
     }
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 void replay_summary_json(json_writer_t *j, const replay_summary_t *s)
@@ -154,9 +155,11 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
                                  const replay_params_t *p, const replay_cost_source_t *cs,
                                  const char *cost_options, const replay_summary_t *s)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot create", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     json_writer_t j;
     json_init(&j, f, true);
     json_begin_object(&j);
@@ -179,9 +182,7 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
     replay_summary_json(&j, s);
     json_end_object(&j);
     fputc('\n', f);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 static pp5_status_t write_plot(const char *path, const replay_result_t *r)
@@ -527,6 +528,11 @@ static int cmd_replay(int argc, char **argv)
         st = pp5_fail(PP5_E_CONFIG, "need exactly one TRACE file (or --live DEVICE); see --help");
     if (st == PP5_OK && o.live && optind != argc)
         st = pp5_fail(PP5_E_CONFIG, "--live records its own trace: give no TRACE file");
+    /* Outputs are checked before the (possibly long) replay starts. */
+    if (st == PP5_OK)
+        st = outpath_check_all("--report", o.report, "--csv", o.csv, "--plot", o.plot, NULL);
+    if (st == PP5_OK && o.frames_dir)
+        st = outpath_check_dir("--frames-dir", o.frames_dir);
     if (st != PP5_OK)
         return cliopt_report("replay", st);
     char live_path[] = "/tmp/pp5-live-XXXXXX.trace";

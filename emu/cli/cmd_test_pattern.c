@@ -6,6 +6,7 @@
 #include "cliopt.h"
 #include "firmware/host/testpattern_session.h"
 #include "machine.h"
+#include "outfile.h"
 #include "registry.h"
 #include "report.h"
 #include "stats.h"
@@ -99,6 +100,10 @@ static int cmd_test_pattern(int argc, char **argv)
     }
     pp5_params_t p;
     pp5_status_t st = pp5_params_build(&cli, &p);
+    if (st == PP5_OK) {
+        /* Every output is checked before the machine runs. */
+        st = outpath_check_all("--out", out, "--report", report, "--timeline", timeline, NULL);
+    }
     if (st != PP5_OK) {
         return cliopt_report("test-pattern", st);
     }

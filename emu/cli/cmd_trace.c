@@ -9,6 +9,7 @@
 
 #include "tracker/angles.h"
 #include "cliopt.h"
+#include "outfile.h"
 #include "emu/cli/cmd_trace.h"
 #include "tracker/import.h"
 #include "registry.h"
@@ -89,6 +90,8 @@ static int cmd_synth(int argc, char **argv)
     }
     if (st == PP5_OK && (!have_mode || !outp || optind != argc))
         st = pp5_fail(PP5_E_CONFIG, "need --mode and --out (and no other arguments); see --help");
+    if (st == PP5_OK)
+        st = outpath_check("--out", outp);
     trace_t t;
     if (st == PP5_OK)
         st = synth_generate(&p, &t);
@@ -181,6 +184,8 @@ static int cmd_import(int argc, char **argv)
     }
     if (st == PP5_OK && (!outp || optind != argc - 1))
         st = pp5_fail(PP5_E_CONFIG, "need one input FILE and --out FILE; see --help");
+    if (st == PP5_OK)
+        st = outpath_check("--out", outp);
     trace_t t;
     if (st == PP5_OK)
         st = import_file(argv[optind], fmt, &o, &t);

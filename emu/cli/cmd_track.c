@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "cliopt.h"
+#include "outfile.h"
 #include "pp5_features.h"
 #include "registry.h"
 #include "status.h"
@@ -351,6 +352,10 @@ static int track_record(int argc, char **argv)
     if (!o.device || !o.out)
         return cliopt_report("track record", pp5_fail(PP5_E_CONFIG, "--device and --out are required "
                                                                     "(see pp5 track --help)"));
+    /* Before any device is opened; the recording itself is flushed as it goes. */
+    pp5_status_t out_st = outpath_check("--out", o.out);
+    if (out_st != PP5_OK)
+        return cliopt_report("track record", out_st);
     stop_requested = 0;
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);

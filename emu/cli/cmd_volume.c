@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "outfile.h"
 #include "registry.h"
 #include "render/volume.h"
 
@@ -168,8 +169,11 @@ static int cmd_phantom(int argc, char **argv)
     if (!nrrd && !raw)
         return cliopt_report("volume phantom", pp5_fail(PP5_E_CONFIG, "--out %s: the name must "
                                                         "end in .nrrd or .raw", out));
+    pp5_status_t st = outpath_check("--out", out);
+    if (st != PP5_OK)
+        return cliopt_report("volume phantom", st);
     volume_t v;
-    pp5_status_t st = phantom_make(argv[optind], nx, ny, nz, &v);
+    st = phantom_make(argv[optind], nx, ny, nz, &v);
     if (st != PP5_OK)
         return cliopt_report("volume phantom", st == PP5_E_RANGE ? PP5_E_CONFIG : st);
     st = nrrd ? volume_save_nrrd(&v, out) : volume_save_raw_f32(&v, out);

@@ -3,7 +3,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "input_limits.h"
 #include "registry.h"
+#include "status.h"
 #include "version.h"
 
 static void print_usage(FILE *out)
@@ -19,13 +21,21 @@ static void print_usage(FILE *out)
     for (int i = 0; i < n; i++)
         fprintf(out, "  %-16s %s\n", cmds[i].name, cmds[i].summary);
     fprintf(out, "  %-16s %s\n", "help", "this list, or `pp5 help COMMAND` for one command");
+    fprintf(out, "\nexit codes (every command):\n%s", pp5_exit_codes_help());
+    fprintf(out, "\ninput limits (raise one with its environment variable, e.g. "
+                 "PP5_MAX_VOXELS=2000000000 pp5 ...):\n");
+    for (int i = 0; i < PP5_LIMIT_COUNT; i++) {
+        pp5_limit_t l = (pp5_limit_t)i;
+        fprintf(out, "  %-22s %12llu  %s\n", pp5_limit_name(l), (unsigned long long)pp5_limit(l),
+                pp5_limit_what(l));
+    }
 }
 
 int main(int argc, char **argv)
 {
     if (argc < 2) {
         print_usage(stderr);
-        return 2;
+        return PP5_EXIT_USAGE;
     }
     const char *name = argv[1];
     if (strcmp(name, "help") == 0 || strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
@@ -33,7 +43,7 @@ int main(int argc, char **argv)
             const pp5_command_t *c = pp5_find_command(argv[2]);
             if (!c) {
                 fprintf(stderr, "pp5: no command '%s' (see pp5 help)\n", argv[2]);
-                return 2;
+                return PP5_EXIT_USAGE;
             }
             char *help_argv[] = {argv[2], "--help", NULL};
             return c->fn(2, help_argv);
@@ -49,7 +59,7 @@ int main(int argc, char **argv)
     if (!c) {
         fprintf(stderr, "pp5: no command '%s'\n\n", name);
         print_usage(stderr);
-        return 2;
+        return PP5_EXIT_USAGE;
     }
     /* The command sees argv[0] = its own name, like a git subcommand. */
     return c->fn(argc - 1, argv + 1);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "json.h"
+#include "outfile.h"
 #include "render/quality.h"
 #include "render/render_figures.h"
 #include "render_cmd.h"
@@ -26,12 +27,20 @@ static void report_stats(json_writer_t *j, const char *key, const render_stats_t
     json_kv_uint(j, "samples_skipped_by_octree", s->samples_skipped);
     if (s->samples_retraced)
         json_kv_uint(j, "samples_retraced", s->samples_retraced);
+    json_kv_int(j, "frame_index", s->frame_index);
+    json_kv_bool(j, "full_resolution_everywhere", s->full_resolution_everywhere);
+    json_end_object(j);
+}
+
+/* Host wall-clock times, in ms: they vary from run to run. */
+static void report_ms(json_writer_t *j, const char *key, const render_stats_t *s)
+{
+    json_key(j, key);
+    json_begin_object(j);
     json_kv_double(j, "ms_levels", s->ms_levels);
     json_kv_double(j, "ms_cast", s->ms_cast);
     json_kv_double(j, "ms_reconstruct", s->ms_reconstruct);
     json_kv_double(j, "ms_total", s->ms_total);
-    json_kv_int(j, "frame_index", s->frame_index);
-    json_kv_bool(j, "full_resolution_everywhere", s->full_resolution_everywhere);
     json_end_object(j);
 }
 
@@ -56,7 +65,6 @@ static void report_settings(json_writer_t *j, const render_job_t *job, const nat
     blend_report_json(j, &s->blend);
     json_kv_string(j, "transfer_function", job->tf.name);
     json_kv_string(j, "lighting", shade_case_name(job->shade.lighting));
-    json_kv_int(j, "threads", s->threads > 0 ? s->threads : r->threads);
     json_kv_double(j, "monitor_diag_in", s->display.monitor_diag_in);
     json_kv_double(j, "view_distance_in", s->display.view_distance_in);
     json_kv_double(j, "image_subtense_deg", s->display.image_subtense_deg);
@@ -75,8 +83,6 @@ static void report_results(json_writer_t *j, const render_job_t *job, const nati
     json_kv_int(j, "mip3d_levels", r->mip.levels);
     json_kv_int(j, "mip3d_floats_per_voxel", r->mip.stride);
     json_kv_uint(j, "mip3d_bytes", r->mip.bytes);
-    json_kv_double(j, "ms_mip3d", r->ms_build_mip);
-    json_kv_double(j, "ms_octree", r->ms_build_octree);
     json_end_object(j);
     json_key(j, "frames");
     json_begin_array(j);
@@ -102,12 +108,39 @@ static void report_results(json_writer_t *j, const render_job_t *job, const nati
     }
 }
 
+/* Everything that depends on the host rather than the inputs (thread count,
+ * wall-clock times) lives under this one key, so that two reports of the
+ * same render compare equal once it is removed. */
+static void report_host_timing(json_writer_t *j, const render_job_t *job,
+                               const native_renderer_t *r, const native_run_t *run)
+{
+    json_key(j, "host_timing");
+    json_begin_object(j);
+    json_kv_int(j, "threads", job->settings.threads > 0 ? job->settings.threads : r->threads);
+    json_kv_double(j, "ms_mip3d", r->ms_build_mip);
+    json_kv_double(j, "ms_octree", r->ms_build_octree);
+    json_key(j, "frames");
+    json_begin_array(j);
+    for (int f = 0; f < run->frames; f++) {
+        json_begin_object(j);
+        report_ms(j, "ms", &run->stats[f]);
+        json_end_object(j);
+    }
+    json_end_array(j);
+    report_ms(j, "last_frame", &run->stats[run->frames - 1]);
+    if (run->have_quality)
+        report_ms(j, "full_resolution_reference", &run->full_stats);
+    json_end_object(j);
+}
+
 static pp5_status_t write_report(const char *path, const render_job_t *job, const scene_t *sc,
                                  const native_renderer_t *r, const native_run_t *run)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "%s: cannot write report", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     json_writer_t j;
     json_init(&j, f, true);
     json_begin_object(&j);
@@ -122,11 +155,10 @@ static pp5_status_t write_report(const char *path, const render_job_t *job, cons
     json_end_object(&j);
     report_settings(&j, job, r);
     report_results(&j, job, r, run);
+    report_host_timing(&j, job, r, run);
     json_end_object(&j);
     fputc('\n', f);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "%s: write failed", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 /* A renderer for the job: the 3D mip map and octree, plus the value pyramid

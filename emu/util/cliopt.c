@@ -77,5 +77,5 @@ int cliopt_report(const char *cmd, pp5_status_t st)
         return 0;
     fprintf(stderr, "pp5 %s: %s\n", cmd, pp5_error_text()[0] ? pp5_error_text()
                                                              : pp5_status_name(st));
-    return st == PP5_E_CONFIG ? 2 : 1;
+    return pp5_exit_code(st);
 }

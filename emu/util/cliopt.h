@@ -13,8 +13,9 @@ pp5_status_t cliopt_double(const char *opt, const char *text, double min, double
 pp5_status_t cliopt_size2(const char *opt, const char *text, long min, long max, int *w, int *h);
 /* "X,Y" as two finite doubles. */
 pp5_status_t cliopt_pair(const char *opt, const char *text, double *x, double *y);
-/* Prints "pp5 CMD: <error text>" to stderr and returns exit code 2 (usage) or
- * 1 (other failures): the one place a status becomes an exit code. */
+/* Prints "pp5 CMD: <error text>" to stderr and returns the exit code of the
+ * status (pp5_exit_code: 2 usage, 3 bad input, 4 i/o, 5 machine, 6 device,
+ * 7 not built in, 1 other): the one place a status becomes an exit code. */
 int cliopt_report(const char *cmd, pp5_status_t st);
 
 #endif

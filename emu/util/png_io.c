@@ -1,6 +1,7 @@
 /* png_io.c: PNG reading and writing with libpng (error handling via setjmp,
  * as libpng requires). */
 #include "png_io.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <png.h>
@@ -56,22 +57,25 @@ void image8_free(image8_t *img)
 
 pp5_status_t png_write(const char *path, const image8_t *img)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "cannot write %s: %s", path, strerror(errno));
+    /* Written to a temporary beside `path` and renamed when complete, so a
+     * failure never leaves a truncated PNG under the real name. */
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, true);
+    if (st != PP5_OK)
+        return st;
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, quiet_error, quiet_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info) {
         png_destroy_write_struct(&png, &info);
-        fclose(f);
+        outfile_discard(&o);
         return pp5_fail(PP5_E_NOMEM, "libpng could not start writing %s", path);
     }
     if (setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
-        fclose(f);
+        outfile_discard(&o);
         return pp5_fail(PP5_E_IO, "libpng failed while writing %s", path);
     }
-    png_init_io(png, f);
+    png_init_io(png, o.f);
     png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
                  img->channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -81,9 +85,7 @@ pp5_status_t png_write(const char *path, const image8_t *img)
         png_write_row(png, img->pixels + (size_t)y * stride);
     png_write_end(png, NULL);
     png_destroy_write_struct(&png, &info);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "cannot finish writing %s: %s", path, strerror(errno));
-    return PP5_OK;
+    return outfile_commit(&o);
 }
 
 pp5_status_t png_read(const char *path, image8_t *img, int want_channels)

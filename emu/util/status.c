@@ -38,8 +38,40 @@ const char *pp5_status_name(pp5_status_t st)
     case PP5_E_FIRMWARE: return "firmware error";
     case PP5_E_CONFIG: return "configuration error";
     case PP5_E_UNSUPPORTED: return "not supported in this build";
+    case PP5_E_MACHINE: return "machine stopped";
     }
     return "unknown status";
+}
+
+int pp5_exit_code(pp5_status_t st)
+{
+    switch (st) {
+    case PP5_OK: return PP5_EXIT_OK;
+    case PP5_E_CONFIG: return PP5_EXIT_USAGE;
+    case PP5_E_FORMAT: case PP5_E_RANGE: return PP5_EXIT_INPUT;
+    case PP5_E_IO: return PP5_EXIT_IO;
+    case PP5_E_FIRMWARE: case PP5_E_MACHINE: return PP5_EXIT_MACHINE;
+    case PP5_E_DEVICE: return PP5_EXIT_DEVICE;
+    case PP5_E_UNSUPPORTED: return PP5_EXIT_UNSUPPORTED;
+    case PP5_E_NOMEM: return PP5_EXIT_FAILURE;
+    }
+    return PP5_EXIT_FAILURE;
+}
+
+const char *pp5_exit_codes_help(void)
+{
+    return "  0  success\n"
+           "  1  other failure (out of memory, a failed comparison)\n"
+           "  2  usage: unknown option, bad option value or machine parameter\n"
+           "  3  bad input: malformed, truncated or out-of-range file contents, or over a\n"
+           "     PP5_MAX_* limit\n"
+           "  4  i/o: a file or folder could not be read or written\n"
+           "  5  machine: a firmware error, or the emulated machine ran past its time budget\n"
+           "  6  device: a tracker failed, timed out or was unplugged\n"
+           "  7  not supported: a feature not built into this pp5 (optional library absent),\n"
+           "     or a variant of a format pp5 does not read\n"
+           "  8  units failed: a batch (sweep, replay --batch, merge) finished and wrote its\n"
+           "     outputs, but some units failed (their ids and errors are in them)\n";
 }
 
 bool pp5_mul_size(size_t a, size_t b, size_t *out)

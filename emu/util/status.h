@@ -21,8 +21,31 @@ typedef enum {
     PP5_E_DEVICE,    /* a tracker device failed, timed out or disconnected */
     PP5_E_FIRMWARE,  /* a GP/PP program broke a rule of the machine */
     PP5_E_CONFIG,    /* a bad machine parameter or command-line option */
-    PP5_E_UNSUPPORTED /* a feature not built in (optional library absent) */
+    PP5_E_UNSUPPORTED, /* a feature not built in (optional library absent) */
+    PP5_E_MACHINE    /* the emulated machine stopped short: a time budget ran out */
 } pp5_status_t;
+
+/* Exit codes of every pp5 command, one per kind of failure, so that scripts
+ * can tell a typo from a bad file from a full disk.  `pp5 help` and the
+ * README list them (pp5_exit_codes_help). */
+enum {
+    PP5_EXIT_OK = 0,
+    PP5_EXIT_FAILURE = 1,     /* anything else (out of memory, a failed check) */
+    PP5_EXIT_USAGE = 2,       /* bad command line: unknown option, bad value, bad parameter */
+    PP5_EXIT_INPUT = 3,       /* bad input: malformed or truncated file, value out of range,
+                                 over a PP5_MAX_* limit */
+    PP5_EXIT_IO = 4,          /* a file or folder could not be read or written */
+    PP5_EXIT_MACHINE = 5,     /* the emulated machine or its firmware failed (firmware error,
+                                 time budget exceeded) */
+    PP5_EXIT_DEVICE = 6,      /* a tracker device failed, timed out or disconnected */
+    PP5_EXIT_UNSUPPORTED = 7, /* not built into this pp5, or a format variant it does not read */
+    PP5_EXIT_UNITS_FAILED = 8 /* a batch (sweep, replay --batch, merge) finished, but some of its
+                                 units failed: their ids and errors are in the output */
+};
+/* The exit code for a status (PP5_OK: 0). */
+int pp5_exit_code(pp5_status_t st);
+/* The table of exit codes, one "  N  meaning" line each, for help texts. */
+const char *pp5_exit_codes_help(void);
 
 /* Record an explanation for the status about to be returned; returns `st` so
  * callers can write `return pp5_fail(PP5_E_RANGE, "...", ...)`. */

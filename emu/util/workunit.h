@@ -40,7 +40,7 @@
 
 /* Exit code of a command whose batch finished but some of whose units failed
  * (their failure records are in the outputs). */
-#define WORKUNIT_EXIT_UNITS_FAILED 3
+#define WORKUNIT_EXIT_UNITS_FAILED PP5_EXIT_UNITS_FAILED
 
 typedef struct {
     uint64_t id;      /* FNV-1a-64 of key */

@@ -1,0 +1,100 @@
+/* test_determinism.c: the same command twice, and with 1, 2 and 3 host
+ * threads, gives bit-identical images, reports and CSVs (tests/determinism.h).
+ *
+ * Covered here: the native renderer (gaze-directed, and progressive with
+ * perspective and specular lighting), test-pattern on the emulated machine, replay through the
+ * emulated machine, trace synth and trace import.  Replay's machine cost
+ * source runs one host thread (firmware/host/replay_machine.c), and synth and
+ * import run none, so those are compared run against run. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "determinism.h"
+#include "harness.h"
+
+static const int one_two_three[] = {1, 2, 3};
+static const int just_one[] = {1};
+
+TEST(determinism_json_drop_removes_members_at_any_depth)
+{
+    char json[] = "{\n  \"a\": 1,\n  \"host_timing\": {\"ms\": [1.5, {\"x\": \"}\"}]},\n"
+                  "  \"b\": {\"host_timing\": 2, \"c\": \"host_timing\"},\n"
+                  "  \"host_timing\": 3\n}\n";
+    size_t n = pp5_det_json_drop(json, strlen(json), "host_timing");
+    /* Worked out by hand: both members and the nested one go with their commas;
+     * the string value "host_timing" stays. */
+    CHECK_MSG(strcmp(json, "{\n  \"a\": 1,\n  \"b\": { \"c\": \"host_timing\"}\n}\n") == 0,
+              "got '%s'", json);
+    CHECK_EQ(n, strlen(json));
+}
+
+TEST(determinism_threads_native_render_gaze)
+{
+    static const char *const outs[] = {"g.png", "g.json", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "render gaze",
+                         "render --phantom sphere-shell --mode gaze --size 96x96 --gaze 30,60 "
+                         "--compare --out @/g.png --report @/g.json --threads {T}",
+                         outs, one_two_three, 3, NULL);
+    CHECK_EQ(n, 2 * 3);
+}
+
+TEST(determinism_threads_native_render_progressive_perspective_specular)
+{
+    static const char *const outs[] = {"f.png", "f.json", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "render progressive",
+                         "render --phantom marschner-lobb --mode gaze --progressive 2 --size 64x64 "
+                         "--projection perspective --lighting specular --out @/f.png "
+                         "--report @/f.json --threads {T}",
+                         outs, one_two_three, 3, NULL);
+    CHECK_EQ(n, 2 * 3);
+}
+
+TEST(determinism_threads_test_pattern_host_threads)
+{
+    /* The machine report records its command line and every parameter,
+     * sim.host_threads included: those two members name the thread count. */
+    static const char *const outs[] = {"tp.png", "tp.json", "tl.json", NULL};
+    static const char *const thread_keys[] = {"command_line", "sim.host_threads", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "test-pattern",
+                         "test-pattern --out @/tp.png --report @/tp.json --timeline @/tl.json "
+                         "--set sim.host_threads={T}",
+                         outs, one_two_three, 3, thread_keys);
+    CHECK_EQ(n, 3 * 3);
+}
+
+TEST(determinism_twice_replay_through_the_machine)
+{
+    static const char *const outs[] = {"r.json", "f.csv", "p.png", "frame_00000.png",
+                                       "frame_00002.png", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "replay",
+                         "replay traces/saccades_10s_250hz.trace --cost machine:size=48x48 "
+                         "--max-frames 3 --predict kalman --report @/r.json --csv @/f.csv "
+                         "--plot @/p.png --frames-dir @",
+                         outs, just_one, 1, NULL);
+    CHECK_EQ(n, 5);
+}
+
+TEST(determinism_twice_trace_synth_and_import)
+{
+    const char *dir = pp5_test_outdir();
+    static const char *const synth_outs[] = {"s.trace", NULL};
+    CHECK_EQ(pp5_det_runs(dir, "synth",
+                          "trace synth --mode mixed --seconds 2 --seed 7 --out @/s.trace",
+                          synth_outs, just_one, 1, NULL), 1);
+    char asc[1200];
+    snprintf(asc, sizeof asc, "%s/in.asc", dir);
+    FILE *f = fopen(asc, "w");
+    REQUIRE(f != NULL);
+    fputs("** CONVERTED FROM x.edf\nMSG\t1 DISPLAY_COORDS 0 0 1023 767\n"
+          "START\t10 \tLEFT\tRIGHT\tSAMPLES\tEVENTS\nSAMPLES\tGAZE\tLEFT\tRIGHT\tRATE\t500.00\n"
+          "10\t512.0\t384.0\t900.0\t520.0\t380.0\t910.0\t.....\n"
+          "12\t513.5\t385.0\t900.0\t521.0\t381.0\t905.0\t.....\n"
+          "14\t   .\t   .\t0.0\t522.0\t382.0\t905.0\t.....\n"
+          "EFIX L 10 14 4 513 384 900\nEND\t16 \tSAMPLES\tEVENTS\tRES\t 35.0\t 36.0\n", f);
+    REQUIRE(fclose(f) == 0);
+    char args[3000];
+    snprintf(args, sizeof args, "trace import %s --out @/e.trace --to paper", asc);
+    static const char *const import_outs[] = {"e.trace", NULL};
+    CHECK_EQ(pp5_det_runs(dir, "import", args, import_outs, just_one, 1, NULL), 1);
+}
