@@ -8,7 +8,7 @@
 #   make deps       install the Debian packages pp5 needs (apt-get, as root)
 #   make SAN=1 test the same under AddressSanitizer + UBSan (separate build dir)
 #
-# Every .c file under emu/ render/ firmware/ tracker/ is part of the program; a
+# Every .c file under emu/ render/ render/mesh/ firmware/ tracker/ is part of the program; a
 # module adds sources by adding files, never by editing this list.
 
 CC      ?= cc
@@ -133,7 +133,7 @@ endif
 
 # firmware/host/ is the host workstation's side (it loads data and drives the
 # machine through emu's full API); the rest of firmware/ runs on the GPs.
-LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c tracker/*.c firmware/host/*.c))
+LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c render/mesh/*.c tracker/*.c firmware/host/*.c))
 FW_SRC   := $(sort $(filter-out firmware/host/%,$(wildcard firmware/*.c firmware/*/*.c)))
 CLI_SRC  := $(sort $(wildcard emu/cli/*.c))
 TEST_SRC := $(sort $(wildcard tests/*.c))
