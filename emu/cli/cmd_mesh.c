@@ -2,6 +2,7 @@
  * simplifiers behind one interface (render/mesh/mesh_simplify.h), their
  * collapse records, and the Metro-style Hausdorff distance between meshes. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,17 +11,38 @@
 #include "registry.h"
 #include "render/mesh/mesh.h"
 #include "render/mesh/mesh_gen.h"
+#include "render/mesh/mesh_hausdorff.h"
 #include "render/mesh/mesh_info.h"
+#include "render/mesh/mesh_simplify.h"
 
 static void usage(void)
 {
-    printf("usage: pp5 mesh info FILE|gen:NAME\n"
-           "Meshes: .obj, .off, .ply (ASCII or binary), each optionally .gz; or a\n"
-           "generated one: gen:sphere (20x20 UV sphere, 760 faces), gen:torus, gen:grid,\n"
-           "gen:cube.\n"
+    printf("usage: pp5 mesh info MESH\n"
+           "       pp5 mesh simplify MESH --method seed001|seed003|qem (--ratio R | --faces N)\n"
+           "                         --out OUT [--levels FILE]\n"
+           "       pp5 mesh extract FILE (--ratio R | --faces N) --out OUT\n"
+           "       pp5 mesh error A B [--bound B] [--samples N]\n\n"
+           "info:     counts, boundary loops, manifoldness, orientation, genus.\n"
+           "simplify: simplifies to at most N faces (or R x the input's faces) and writes\n"
+           "          the result; --levels also writes the collapse record (every level).\n"
+           "          Methods: seed001 (triangle collapse, Qian & Luo 2017), seed003 (edge\n"
+           "          deletion with butterfly stencils, Cao et al.), qem (Garland-Heckbert).\n"
+           "extract:  the level of a collapse record with at most N faces, without\n"
+           "          simplifying again.\n"
+           "error:    symmetric Hausdorff and mean distance between A and B as %% of A's\n"
+           "          bounding-box diagonal (Metro convention); the maxima carry a guaranteed\n"
+           "          error bound (--bound, x the diagonal, default 1e-5); the means use\n"
+           "          --samples area-uniform samples per direction (default 200000).\n"
+           "MESH: .obj, .off, .ply (ASCII or binary), each optionally .gz, or a generated\n"
+           "mesh: gen:sphere (20x20 UV sphere, 760 faces), gen:torus, gen:grid, gen:cube.\n"
+           "OUT: .obj, .off or .ply (binary).\n\n"
            "examples:\n"
            "  pp5 mesh info ../shared/data/meshes/bun_zipper.ply.gz\n"
-           "  pp5 mesh info gen:sphere\n");
+           "  pp5 mesh simplify ../shared/data/meshes/cow_tri.obj --method seed001 --ratio 0.5 \\\n"
+           "      --out cow50.obj --levels cow.pmr\n"
+           "  pp5 mesh extract cow.pmr --faces 1000 --out cow1000.off\n"
+           "  pp5 mesh error ../shared/data/meshes/cow_tri.obj cow50.obj\n"
+           "  pp5 mesh simplify gen:sphere --method seed003 --faces 188 --out s188.obj\n");
 }
 
 /* Loads FILE or a generated mesh named gen:NAME. */
@@ -82,6 +104,159 @@ static int cmd_info(int argc, char **argv)
     return 0;
 }
 
+typedef struct {
+    const char *method, *out, *levels;
+    double ratio;
+    long faces;
+    double bound;
+    long samples;
+} mesh_cli_opts_t;
+
+static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
+{
+    static const struct option longopts[] = {
+        {"method", required_argument, NULL, 'm'}, {"ratio", required_argument, NULL, 'r'},
+        {"faces", required_argument, NULL, 'f'},  {"out", required_argument, NULL, 'o'},
+        {"levels", required_argument, NULL, 'l'}, {"bound", required_argument, NULL, 'b'},
+        {"samples", required_argument, NULL, 's'}, {NULL, 0, NULL, 0},
+    };
+    memset(o, 0, sizeof *o);
+    o->ratio = -1, o->faces = -1, o->bound = 1e-5, o->samples = 200000;
+    int c;
+    optind = 1;
+    pp5_status_t st = PP5_OK;
+    while (st == PP5_OK && (c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'm': o->method = optarg; break;
+        case 'r': st = cliopt_double("--ratio", optarg, 0.0, 1.0, &o->ratio); break;
+        case 'f': st = cliopt_long("--faces", optarg, 0, MESH_MAX_FACES, &o->faces); break;
+        case 'o': o->out = optarg; break;
+        case 'l': o->levels = optarg; break;
+        case 'b': st = cliopt_double("--bound", optarg, 1e-9, 1.0, &o->bound); break;
+        case 's': st = cliopt_long("--samples", optarg, 0, 100000000, &o->samples); break;
+        default: st = pp5_fail(PP5_E_CONFIG, "unknown option (see pp5 mesh --help)");
+        }
+    }
+    if (st == PP5_OK && o->ratio >= 0 && o->faces >= 0)
+        st = pp5_fail(PP5_E_CONFIG, "give --ratio or --faces, not both");
+    return st;
+}
+
+static long target_faces(const mesh_cli_opts_t *o, int input_faces)
+{
+    return o->faces >= 0 ? o->faces : (long)(o->ratio * input_faces + 0.5);
+}
+
+static int cmd_simplify(int argc, char **argv)
+{
+    mesh_cli_opts_t o;
+    pp5_status_t st = parse_opts(argc, argv, &o);
+    if (st == PP5_OK && (optind != argc - 1 || !o.method || !o.out))
+        st = pp5_fail(PP5_E_CONFIG, "usage: pp5 mesh simplify MESH --method M --ratio R|--faces "
+                      "N --out OUT");
+    if (st == PP5_OK && o.ratio < 0 && o.faces < 0)
+        st = pp5_fail(PP5_E_CONFIG, "give --ratio or --faces");
+    mesh_simplify_opts_t so;
+    mesh_method_t method = MESH_QEM;
+    if (st == PP5_OK)
+        st = mesh_method_parse(o.method, &method);
+    if (st != PP5_OK)
+        return cliopt_report("mesh simplify", st);
+    mesh_t in, out;
+    st = mesh_cli_load(argv[optind], &in);
+    if (st != PP5_OK)
+        return cliopt_report("mesh simplify", st);
+    mesh_simplify_defaults(&so, method);
+    so.target_faces = (int)target_faces(&o, in.n_faces);
+    mesh_record_t rec;
+    mesh_simplify_stats_t stats;
+    st = mesh_simplify(&in, &so, &out, o.levels ? &rec : NULL, &stats);
+    if (st == PP5_OK) {
+        st = mesh_save(o.out, &out);
+        if (st == PP5_OK && o.levels)
+            st = mesh_record_save(o.levels, &rec);
+        printf("%s: %d faces, %d vertices -> %d faces, %d vertices with %s in %.1f ms "
+               "(%d merges; refused: %ld topology, %ld fold-over)\n", in.source, in.n_faces,
+               in.n_vertices, out.n_faces, out.n_vertices, mesh_method_name(method), stats.ms,
+               stats.merges, stats.refused_topology, stats.refused_fold);
+        if (out.n_faces > so.target_faces)
+            printf("  stopped at the topology floor: no allowed merge left above %d faces\n",
+                   so.target_faces);
+        if (o.levels && st == PP5_OK)
+            printf("  collapse record: %d levels, %d to %d faces, in %s\n", rec.n_levels,
+                   rec.level_faces[0], rec.level_faces[rec.n_levels - 1], o.levels);
+        mesh_free(&out);
+        if (o.levels)
+            mesh_record_free(&rec);
+    }
+    mesh_free(&in);
+    return st == PP5_OK ? 0 : cliopt_report("mesh simplify", st);
+}
+
+static int cmd_extract(int argc, char **argv)
+{
+    mesh_cli_opts_t o;
+    pp5_status_t st = parse_opts(argc, argv, &o);
+    if (st == PP5_OK && (optind != argc - 1 || !o.out || (o.ratio < 0 && o.faces < 0)))
+        st = pp5_fail(PP5_E_CONFIG, "usage: pp5 mesh extract FILE --ratio R|--faces N --out "
+                      "OUT");
+    mesh_record_t rec;
+    if (st == PP5_OK)
+        st = mesh_record_load(argv[optind], &rec);
+    if (st != PP5_OK)
+        return cliopt_report("mesh extract", st);
+    mesh_t out;
+    int level = mesh_record_level_for_faces(&rec, (int)target_faces(&o, rec.level_faces[0]));
+    st = mesh_record_extract(&rec, level, &out);
+    if (st == PP5_OK) {
+        st = mesh_save(o.out, &out);
+        printf("level %d of %d: %d faces, %d vertices\n", level, rec.n_levels - 1, out.n_faces,
+               out.n_vertices);
+        mesh_free(&out);
+    }
+    mesh_record_free(&rec);
+    return st == PP5_OK ? 0 : cliopt_report("mesh extract", st);
+}
+
+static int cmd_error(int argc, char **argv)
+{
+    mesh_cli_opts_t o;
+    pp5_status_t st = parse_opts(argc, argv, &o);
+    if (st == PP5_OK && optind != argc - 2)
+        st = pp5_fail(PP5_E_CONFIG, "usage: pp5 mesh error A B");
+    if (st != PP5_OK)
+        return cliopt_report("mesh error", st);
+    mesh_t a, b;
+    st = mesh_cli_load(argv[optind], &a);
+    if (st != PP5_OK)
+        return cliopt_report("mesh error", st);
+    st = mesh_cli_load(argv[optind + 1], &b);
+    if (st != PP5_OK) {
+        mesh_free(&a);
+        return cliopt_report("mesh error", st);
+    }
+    mesh_distance_opts_t dopt;
+    mesh_distance_defaults(&dopt);
+    dopt.bound_rel = o.bound;
+    dopt.mean_samples = o.samples;
+    mesh_distance_t d;
+    st = mesh_distance(&a, &b, &dopt, &d);
+    if (st == PP5_OK) {
+        double pc = 100.0 / d.diagonal;
+        printf("A: %s (%d faces), B: %s (%d faces); diagonal of A %.9g\n", a.source, a.n_faces,
+               b.source, b.n_faces, d.diagonal);
+        printf("hausdorff: %.6f %% of the diagonal (%.9g), within +%.6f %%\n", d.hausdorff * pc,
+               d.hausdorff, fmax(d.bound_ab, d.bound_ba) * pc);
+        printf("  A->B max %.6f %%  mean %.6f %%   B->A max %.6f %%  mean %.6f %%\n",
+               d.h_ab * pc, d.mean_ab * pc, d.h_ba * pc, d.mean_ba * pc);
+        printf("mean: %.6f %% (the larger one-sided mean)\n", fmax(d.mean_ab, d.mean_ba) * pc);
+        printf("refinement: %ld + %ld triangles examined\n", d.cells_ab, d.cells_ba);
+    }
+    mesh_free(&a);
+    mesh_free(&b);
+    return st == PP5_OK ? 0 : cliopt_report("mesh error", st);
+}
+
 static int cmd_mesh(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
@@ -90,6 +265,12 @@ static int cmd_mesh(int argc, char **argv)
     }
     if (strcmp(argv[1], "info") == 0)
         return cmd_info(argc - 1, argv + 1);
+    if (strcmp(argv[1], "simplify") == 0)
+        return cmd_simplify(argc - 1, argv + 1);
+    if (strcmp(argv[1], "extract") == 0)
+        return cmd_extract(argc - 1, argv + 1);
+    if (strcmp(argv[1], "error") == 0)
+        return cmd_error(argc - 1, argv + 1);
     fprintf(stderr, "pp5 mesh: unknown subcommand '%s' (see pp5 mesh --help)\n", argv[1]);
     return 2;
 }
