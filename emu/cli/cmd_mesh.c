@@ -170,15 +170,27 @@ static int cmd_simplify(int argc, char **argv)
     so.target_faces = (int)target_faces(&o, in.n_faces);
     mesh_record_t rec;
     mesh_simplify_stats_t stats;
-    st = mesh_simplify(&in, &so, &out, o.levels ? &rec : NULL, &stats);
+    /* With --levels the record goes down to the topology floor, and the
+     * output is its level at the target (the same mesh: tests/test_mesh_simplify.c). */
+    int want = so.target_faces;
+    if (o.levels)
+        so.target_faces = 0;
+    st = mesh_simplify(&in, &so, o.levels ? NULL : &out, o.levels ? &rec : NULL, &stats);
+    so.target_faces = want;
+    if (st == PP5_OK && o.levels) {
+        st = mesh_record_extract(&rec, mesh_record_level_for_faces(&rec, want), &out);
+        if (st != PP5_OK)
+            mesh_record_free(&rec);
+    }
     if (st == PP5_OK) {
         st = mesh_save(o.out, &out);
         if (st == PP5_OK && o.levels)
             st = mesh_record_save(o.levels, &rec);
         printf("%s: %d faces, %d vertices -> %d faces, %d vertices with %s in %.1f ms "
-               "(%d merges; refused: %ld topology, %ld fold-over)\n", in.source, in.n_faces,
+               "(%d merges%s; refused: %ld topology, %ld fold-over)\n", in.source, in.n_faces,
                in.n_vertices, out.n_faces, out.n_vertices, mesh_method_name(method), stats.ms,
-               stats.merges, stats.refused_topology, stats.refused_fold);
+               stats.merges, o.levels ? " to the floor" : "", stats.refused_topology,
+               stats.refused_fold);
         if (out.n_faces > so.target_faces)
             printf("  stopped at the topology floor: no allowed merge left above %d faces\n",
                    so.target_faces);

@@ -143,13 +143,128 @@ pp5_status_t mesh_record_extract(mesh_record_t *r, int level, mesh_t *out)
     return PP5_OK;
 }
 
+/* File layout (little-endian, the byte order of every host pp5 builds on):
+ * "PP5MREC1", u32 version 1, i32 n_input_vertices, n_vertices, n_faces,
+ * n_levels, then pos (f64 x 3nv), parent, death (i32 x nv), tri (i32 x 3nf),
+ * face_death, face_src (i32 x nf), level_step, level_faces, level_vertices
+ * (i32 x n_levels). */
+static const char RECORD_MAGIC[8] = {'P', 'P', '5', 'M', 'R', 'E', 'C', '1'};
+
 pp5_status_t mesh_record_save(const char *path, const mesh_record_t *r)
 {
-    return pp5_fail(PP5_E_UNSUPPORTED, "%s: record files not yet built", path);
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    if (!f)
+        return pp5_fail(PP5_E_IO, "%s: cannot write", path);
+    int32_t head[5] = {1, r->n_input_vertices, r->n_vertices, r->n_faces, r->n_levels};
+    size_t nv = (size_t)r->n_vertices, nf = (size_t)r->n_faces, nl = (size_t)r->n_levels;
+    fwrite(RECORD_MAGIC, 1, 8, f);
+    fwrite(head, sizeof head, 1, f);
+    fwrite(r->pos, sizeof *r->pos, 3 * nv, f);
+    fwrite(r->parent, 4, nv, f), fwrite(r->death, 4, nv, f);
+    fwrite(r->tri, 4, 3 * nf, f), fwrite(r->face_death, 4, nf, f), fwrite(r->face_src, 4, nf, f);
+    fwrite(r->level_step, 4, nl, f), fwrite(r->level_faces, 4, nl, f);
+    fwrite(r->level_vertices, 4, nl, f);
+    int bad = ferror(f);
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        return pp5_fail(PP5_E_IO, "%s: write failed", path);
+    }
+    return PP5_OK;
+}
+
+/* Every link of the record points where it may: parents are later vertices,
+ * faces use input vertices, levels only shrink. */
+static pp5_status_t record_check(const char *path, const mesh_record_t *r)
+{
+    for (int v = 0; v < r->n_vertices; v++) {
+        int32_t p = r->parent[v], d = r->death[v];
+        if ((p < 0) != (d == INT32_MAX) || (p >= 0 && (p <= v || p >= r->n_vertices)) ||
+            (d != INT32_MAX && (d < 1 || d > r->n_vertices - r->n_input_vertices)))
+            return pp5_fail(PP5_E_FORMAT, "%s: vertex %d has a bad merge link", path, v);
+        for (int k = 0; k < 3; k++)
+            if (!(r->pos[3 * v + k] == r->pos[3 * v + k]) || r->pos[3 * v + k] > 1e300 ||
+                r->pos[3 * v + k] < -1e300)
+                return pp5_fail(PP5_E_FORMAT, "%s: vertex %d is not finite", path, v);
+    }
+    for (int i = 0; i < 3 * r->n_faces; i++)
+        if (r->tri[i] < 0 || r->tri[i] >= r->n_input_vertices)
+            return pp5_fail(PP5_E_FORMAT, "%s: face %d uses vertex %d", path, i / 3,
+                            (int)r->tri[i]);
+    for (int i = 0; i < r->n_faces; i++)
+        if (r->face_death[i] < 1 || (i > 0 && r->face_death[i] > r->face_death[i - 1]))
+            return pp5_fail(PP5_E_FORMAT, "%s: faces out of order at %d", path, i);
+    for (int l = 0; l < r->n_levels; l++)
+        if (r->level_faces[l] < 0 || r->level_faces[l] > r->n_faces ||
+            r->level_vertices[l] < 0 || r->level_vertices[l] > r->n_vertices ||
+            r->level_step[l] < 0 || r->level_step[l] > r->n_vertices - r->n_input_vertices ||
+            (l > 0 && (r->level_faces[l] > r->level_faces[l - 1] ||
+                       r->level_step[l] <= r->level_step[l - 1])))
+            return pp5_fail(PP5_E_FORMAT, "%s: level %d is inconsistent", path, l);
+    return PP5_OK;
 }
 
 pp5_status_t mesh_record_load(const char *path, mesh_record_t *r)
 {
     memset(r, 0, sizeof *r);
-    return pp5_fail(PP5_E_UNSUPPORTED, "%s: record files not yet built", path);
+    uint8_t *data;
+    size_t n;
+    pp5_status_t st = mesh_read_file(path, &data, &n);
+    if (st != PP5_OK)
+        return st;
+    int32_t head[5];
+    if (n < 28 || memcmp(data, RECORD_MAGIC, 8) != 0) {
+        free(data);
+        return pp5_fail(PP5_E_FORMAT, "%s: not a pp5 collapse record", path);
+    }
+    memcpy(head, data + 8, sizeof head);
+    r->n_input_vertices = head[1], r->n_vertices = head[2], r->n_faces = head[3];
+    r->n_levels = head[4];
+    if (head[0] != 1 || head[1] < 0 || head[1] > MESH_MAX_VERTICES || head[2] < head[1] ||
+        head[2] > 2 * MESH_MAX_VERTICES || head[3] < 0 || head[3] > MESH_MAX_FACES ||
+        head[4] < 1 || head[4] > head[2] - head[1] + 1) {
+        free(data);
+        memset(r, 0, sizeof *r);
+        return pp5_fail(PP5_E_FORMAT, "%s: bad header (version %d, counts %d %d %d %d; at most "
+                        "%d vertices and %d faces)", path, head[0], head[1], head[2], head[3],
+                        head[4], MESH_MAX_VERTICES, MESH_MAX_FACES);
+    }
+    size_t nv = (size_t)r->n_vertices, nf = (size_t)r->n_faces, nl = (size_t)r->n_levels;
+    size_t want = 28 + 8 * 3 * nv + 4 * 2 * nv + 4 * 5 * nf + 4 * 3 * nl;
+    if (n != want) {
+        free(data);
+        memset(r, 0, sizeof *r);
+        return pp5_fail(PP5_E_FORMAT, "%s: %zu bytes, the header implies %zu", path, n, want);
+    }
+    const uint8_t *p = data + 28;
+#define TAKE(field, count, size)                                                  \
+    do {                                                                          \
+        r->field = malloc((size_t)(count) * (size) + 1);                          \
+        if (r->field)                                                             \
+            memcpy(r->field, p, (size_t)(count) * (size));                        \
+        p += (size_t)(count) * (size);                                            \
+    } while (0)
+    TAKE(pos, 3 * nv, 8);
+    TAKE(parent, nv, 4);
+    TAKE(death, nv, 4);
+    TAKE(tri, 3 * nf, 4);
+    TAKE(face_death, nf, 4);
+    TAKE(face_src, nf, 4);
+    TAKE(level_step, nl, 4);
+    TAKE(level_faces, nl, 4);
+    TAKE(level_vertices, nl, 4);
+#undef TAKE
+    free(data);
+    if (!r->pos || !r->parent || !r->death || !r->tri || !r->face_death || !r->face_src ||
+        !r->level_step || !r->level_faces || !r->level_vertices)
+        st = pp5_fail(PP5_E_NOMEM, "%s: out of memory", path);
+    if (st == PP5_OK)
+        st = record_check(path, r);
+    if (st == PP5_OK)
+        st = record_alloc_scratch(r);
+    if (st != PP5_OK)
+        mesh_record_free(r);
+    return st;
 }
