@@ -40,6 +40,25 @@ static double angle_between(const double a[3], const double b[3])
     return acos(c > 1 ? 1 : c < -1 ? -1 : c);
 }
 
+/* The angle between the two boundary edges at v (0 on a straight boundary). */
+static double boundary_turn(const sw_t *w, int v)
+{
+    int nb[2], n = 0;
+    const int32_t *fan = w->pool + w->fan_off[v];
+    for (int i = 0; i < w->fan_n[v] && n < 2; i++)
+        for (int k = 0; k < 3; k++) {
+            int x = w->tri[3 * fan[i] + k];
+            if (x != v && (n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1 && n < 2)
+                nb[n++] = x;
+        }
+    if (n < 2)
+        return PI;
+    const double *p = w->pos + 3 * v, *a = w->pos + 3 * nb[0], *b = w->pos + 3 * nb[1];
+    double u[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    double t[3] = {b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+    return angle_between(u, t);
+}
+
 /* §2.1: A1 = the widest pair of face normals; the others join the nearer of
  * the two; A2 = the wider of the two groups' cones. */
 static void classify_vertex(s003_t *s, int v)
@@ -69,8 +88,15 @@ static void classify_vertex(s003_t *s, int v)
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
     int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
     s->corner[v] = imp == 2;
-    if (imp < 2 && sw_vertex_on_boundary(w, v))
+    if (imp < 2 && sw_vertex_on_boundary(w, v)) {
         imp++;
+        /* Added rule: where the boundary itself turns by more than the crease
+         * angle the vertex is a corner, though its normals may all agree (a
+         * flat sheet's corner); §2.1 would give it importance 1 and case 4
+         * would round it off. */
+        if (boundary_turn(w, v) > crease)
+            imp = 2, s->corner[v] = 1;
+    }
     s->importance[v] = (uint8_t)imp;
 }
 
