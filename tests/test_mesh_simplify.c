@@ -323,11 +323,11 @@ TEST(mesh_seed003_stencil_weights_sum_to_one_in_every_case)
     for (int i = 0; i < 4; i++) {
         sw_t w;
         mesh_simplify_stats_t st;
-        REQUIRE(sw_init(&w, &meshes[i], false, &st) == PP5_OK);
+        REQUIRE(sw_init(&w, &meshes[i], false, 0, &st) == PP5_OK);
         uint8_t *imp = calloc((size_t)w.nv, 1), *corner = calloc((size_t)w.nv, 1);
         REQUIRE(imp && corner);
         hand_importance(&meshes[i], i == 3, i == 2, imp, corner);
-        s003_context_t ctx = {&w, imp, corner, true, cos(45.0 * 3.14159265358979 / 180)};
+        s003_context_t ctx = {&w, imp, corner, true, cos(45.0 * 3.14159265358979 / 180), NULL};
         for (int f = 0; f < w.nf; f++)
             for (int c = 0; c < 3; c++) {
                 s003_stencil_t s;

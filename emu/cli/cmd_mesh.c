@@ -187,9 +187,9 @@ static int cmd_simplify(int argc, char **argv)
         if (st == PP5_OK && o.levels)
             st = mesh_record_save(o.levels, &rec);
         printf("%s: %d faces, %d vertices -> %d faces, %d vertices with %s in %.1f ms "
-               "(%d merges%s; refused: %ld topology, %ld fold-over)\n", in.source, in.n_faces,
-               in.n_vertices, out.n_faces, out.n_vertices, mesh_method_name(method), stats.ms,
-               stats.merges, o.levels ? " to the floor" : "", stats.refused_topology,
+               "(CPU %.1f ms; %d merges%s; refused: %ld topology, %ld fold-over)\n", in.source,
+               in.n_faces, in.n_vertices, out.n_faces, out.n_vertices, mesh_method_name(method),
+               stats.ms, stats.cpu_ms, stats.merges, o.levels ? " to the floor" : "", stats.refused_topology,
                stats.refused_fold);
         if (out.n_faces > so.target_faces)
             printf("  stopped at the topology floor: no allowed merge left above %d faces\n",

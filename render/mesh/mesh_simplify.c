@@ -43,30 +43,6 @@ pp5_status_t mesh_method_parse(const char *name, mesh_method_t *m)
     return PP5_OK;
 }
 
-/* Every edge in at most two faces, each direction in at most one. */
-static pp5_status_t check_edge_manifold(const sw_t *w, const mesh_t *in)
-{
-    for (int f = 0; f < w->nf; f++)
-        for (int c = 0; c < 3; c++) {
-            int a = w->tri[3 * f + c], b = w->tri[3 * f + (c + 1) % 3];
-            if (a < b && sw_edge_faces(w, a, b) > 2)
-                return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d has %d faces (the simplifiers "
-                                "need an edge-manifold mesh)", in->source, a + 1, b + 1,
-                                sw_edge_faces(w, a, b));
-            int same = 0;
-            const int32_t *fan = w->pool + w->fan_off[a];
-            for (int i = 0; i < w->fan_n[a]; i++) {
-                const int32_t *t = w->tri + 3 * fan[i];
-                for (int k = 0; k < 3; k++)
-                    same += t[k] == a && t[(k + 1) % 3] == b;
-            }
-            if (same > 1)
-                return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d is traversed the same way by "
-                                "two faces (inconsistent orientation)", in->source, a + 1, b + 1);
-        }
-    return PP5_OK;
-}
-
 pp5_status_t mesh_simplify(const mesh_t *in, const mesh_simplify_opts_t *o, mesh_t *out,
                            mesh_record_t *rec, mesh_simplify_stats_t *stats)
 {
@@ -81,14 +57,17 @@ pp5_status_t mesh_simplify(const mesh_t *in, const mesh_simplify_opts_t *o, mesh
     pp5_status_t st = mesh_validate(in, in->source);
     if (st != PP5_OK)
         return st;
-    struct timespec t0, t1;
+    struct timespec t0, t1, c0, c1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);
     sw_t w;
-    st = sw_init(&w, in, rec != NULL, stats);
+    /* edge methods queue edges under a corner id, seed 001 queues faces */
+    st = sw_init(&w, in, rec != NULL, o->method == MESH_SEED001 ? in->n_faces : 3 * in->n_faces,
+                 stats);
     if (st != PP5_OK)
         return st;
     w.fold_cos_min = o->fold_cos_min;
-    st = check_edge_manifold(&w, in);
+    st = sw_check_edge_manifold(&w, in->source);
     if (st == PP5_OK) {
         if (o->method == MESH_QEM)
             st = simplify_qem_run(&w, o);
@@ -98,7 +77,10 @@ pp5_status_t mesh_simplify(const mesh_t *in, const mesh_simplify_opts_t *o, mesh
             st = simplify_seed003_run(&w, o);
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
     stats->ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
+    stats->cpu_ms =
+        (double)(c1.tv_sec - c0.tv_sec) * 1e3 + (double)(c1.tv_nsec - c0.tv_nsec) / 1e6;
     stats->output_faces = w.faces_alive;
     stats->output_vertices = w.verts_alive;
     if (st == PP5_OK && out)

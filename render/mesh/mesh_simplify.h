@@ -59,6 +59,7 @@ typedef struct {
     int phase_switch_merge;     /* seed 003: merges done when phase 2 began (-1: never) */
     int unfreezes;              /* seed 003: independent-set rounds */
     double ms;                  /* wall time of the simplification (one thread) */
+    double cpu_ms;              /* its thread CPU time (steadier on a shared host) */
 } mesh_simplify_stats_t;
 
 /* The collapse record.  Vertices 0..n_input_vertices-1 are the input's; each

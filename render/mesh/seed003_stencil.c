@@ -30,6 +30,19 @@ double s003_ring_weights(int K, double *s)
     return 1.0 - sum;
 }
 
+int s003_ring_table_offset(int K)
+{
+    return (K - 3) * (K + 4) / 2;   /* sum over k = 3 .. K-1 of (k + 1) entries */
+}
+
+void s003_ring_table_fill(double *table)
+{
+    for (int K = 3; K <= S003_RING_TABLE_K; K++) {
+        double *t = table + s003_ring_table_offset(K);
+        t[0] = s003_ring_weights(K, t + 1);
+    }
+}
+
 static void add(s003_stencil_t *s, int v, double w)
 {
     for (int i = 0; i < s->n; i++)
@@ -66,7 +79,14 @@ static bool ring_stencil(const s003_context_t *c, int v, int other, double scale
     int K = sw_ring(c->w, v, other, ring, SW_MAX_FAN);
     if (K < 3)
         return false;
-    double q = s003_ring_weights(K, w);
+    double q;
+    if (c->ring_table && K <= S003_RING_TABLE_K) {   /* the same numbers, computed once */
+        const double *t = c->ring_table + s003_ring_table_offset(K);
+        q = t[0];
+        memcpy(w, t + 1, sizeof *w * (size_t)K);
+    } else {
+        q = s003_ring_weights(K, w);
+    }
     add(s, v, q * scale);
     for (int j = 0; j < K; j++)
         add(s, ring[j], w[j] * scale);
@@ -102,21 +122,39 @@ static int feature_neighbour(const s003_context_t *c, int v, int skip)
 {
     const sw_t *w = c->w;
     int found = -1, count = 0;
-    const int32_t *fan = w->pool + w->fan_off[v];
+    const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
-        for (int k = 0; k < 3; k++) {
-            int x = w->tri[3 * fan[i] + k];
-            if (x == v || x == skip || x == found)
+        for (int k = 0; k < 2; k++) {
+            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            if (x == skip || x == found)
                 continue;
             if (s003_feature_edge(c, v, x)) {
                 /* each neighbour appears in two faces: count it once */
                 if (found < 0)
                     found = x, count = 1;
-                else if (x != found)
+                else
                     count++;
             }
         }
     return count == 1 ? found : -1;
+}
+
+/* v's neighbour across a boundary edge other than skip, or -1. */
+static int boundary_neighbour(const sw_t *w, int v, int skip)
+{
+    const int32_t *fan = sw_fan(w, v);
+    int n = w->fan_n[v];
+    if (w->fan_kind[v] == SW_FAN_PATH) {   /* the path's two ends */
+        int first = w->tri[sw_next(fan[0])], last = w->tri[sw_prev(fan[n - 1])];
+        return first != skip ? first : last != skip ? last : -1;
+    }
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++) {
+            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            if (x != skip && sw_edge_faces(w, v, x) == 1)
+                return x;
+        }
+    return -1;
 }
 
 static void feature_case(const s003_context_t *c, int a, int b, s003_stencil_t *s)
@@ -161,22 +199,8 @@ bool s003_stencil(const s003_context_t *c, int a, int b, s003_stencil_t *s)
             return false;
         bool boundary_edge = sw_opposite(c->w, a, b) < 0 || sw_opposite(c->w, b, a) < 0;
         if (boundary_edge && ia == 1 && ib == 1) {
-            int pa = -1, pb = -1;   /* case 4: 4-point rule along the boundary */
-            const sw_t *w = c->w;
-            for (int side = 0; side < 2; side++) {
-                int v = side ? b : a, skip = side ? a : b, found = -1;
-                const int32_t *fan = w->pool + w->fan_off[v];
-                for (int i = 0; i < w->fan_n[v] && found < 0; i++)
-                    for (int k = 0; k < 3; k++) {
-                        int x = w->tri[3 * fan[i] + k];
-                        if (x != v && x != skip && sw_edge_faces(w, v, x) == 1)
-                            found = x;
-                    }
-                if (side)
-                    pb = found;
-                else
-                    pa = found;
-            }
+            /* case 4: 4-point rule along the boundary */
+            int pa = boundary_neighbour(c->w, a, b), pb = boundary_neighbour(c->w, b, a);
             if (pa >= 0 && pb >= 0 && pa != pb) {
                 add(s, pa, -1.0 / 16.0), add(s, a, 9.0 / 16.0);
                 add(s, b, 9.0 / 16.0), add(s, pb, -1.0 / 16.0);

@@ -32,6 +32,7 @@ typedef struct {
     const uint8_t *corner;       /* geometric corner (A2 above its threshold) */
     bool pin_corners;
     double cos_crease;           /* cos of the crease angle: feature edges */
+    const double *ring_table;    /* s003_ring_table_fill's numbers, or NULL */
 } s003_context_t;
 
 /* Is edge (a, b) a feature edge (boundary, or dihedral above the crease angle)? */
@@ -41,5 +42,11 @@ bool s003_stencil(const s003_context_t *c, int a, int b, s003_stencil_t *s);
 /* The modified-butterfly weights at a vertex of valence K >= 3 (case 2):
  * s[0..K-1] for its ring starting at the other endpoint; returns q. */
 double s003_ring_weights(int K, double *s);
+/* The case-2 weights of every K up to S003_RING_TABLE_K, computed once:
+ * at offset s003_ring_table_offset(K), q then s[0..K-1]. */
+#define S003_RING_TABLE_K 32
+#define S003_RING_TABLE_SIZE ((S003_RING_TABLE_K - 2) * (S003_RING_TABLE_K + 5) / 2)
+int s003_ring_table_offset(int K);
+void s003_ring_table_fill(double *table);
 
 #endif

@@ -32,27 +32,26 @@ static double quadric_eval(const quadric_t *Q, const double p[3])
            2 * q[5] * y * z + 2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
 }
 
+/* The determinant of rows (a b c), (d e f), (g h i), expanded along the first row. */
+static inline double det3(double a, double b, double c, double d, double e, double f, double g,
+                          double h, double i)
+{
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
 /* Minimiser of the quadric; false when the system is near singular. */
 static bool quadric_optimum(const quadric_t *Q, double p[3])
 {
     const double *q = Q->q;
-    double A[3][3] = {{q[0], q[1], q[2]}, {q[1], q[4], q[5]}, {q[2], q[5], q[7]}};
-    double b[3] = {-q[3], -q[6], -q[8]};
-    double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                 A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                 A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-    double scale = fabs(A[0][0]) + fabs(A[1][1]) + fabs(A[2][2]);
+    double b0 = -q[3], b1 = -q[6], b2 = -q[8];
+    double det = det3(q[0], q[1], q[2], q[1], q[4], q[5], q[2], q[5], q[7]);
+    double scale = fabs(q[0]) + fabs(q[4]) + fabs(q[7]);
     if (!(scale > 0) || fabs(det) < 1e-9 * scale * scale * scale)
         return false;
-    for (int k = 0; k < 3; k++) {   /* Cramer's rule */
-        double M[3][3];
-        memcpy(M, A, sizeof M);
-        for (int r = 0; r < 3; r++)
-            M[r][k] = b[r];
-        p[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-                M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-                M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) / det;
-    }
+    /* Cramer's rule: column k replaced by b */
+    p[0] = det3(b0, q[1], q[2], b1, q[4], q[5], b2, q[5], q[7]) / det;
+    p[1] = det3(q[0], b0, q[2], q[1], b1, q[5], q[2], b2, q[7]) / det;
+    p[2] = det3(q[0], q[1], b0, q[1], q[4], b1, q[2], q[5], b2) / det;
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
 }
 
@@ -96,10 +95,10 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight)
         double d = -sw_dot(u, p0), area = 0.5 * len;
         for (int c = 0; c < 3; c++)
             quadric_add_plane(&s->Q[w->tri[3 * f + c]], u, d, area);
-        for (int c = 0; c < 3; c++) {
-            int a = w->tri[3 * f + c], b = w->tri[3 * f + (c + 1) % 3];
-            if (sw_opposite(w, b, a) >= 0)
+        for (int c = 3 * f; c < 3 * f + 3; c++) {
+            if (!sw_corner_on_boundary(w, c))
                 continue;
+            int a = w->tri[c], b = w->tri[sw_next(c)];
             const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
             double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]}, m[3];
             sw_cross(e, u, m);
@@ -115,14 +114,46 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight)
     }
 }
 
-static pp5_status_t qem_push_edge(qem_t *s, int a, int b)
+/* Queues edge id (a corner) at its cost. */
+static void qem_queue(qem_t *s, int id)
 {
-    if (a > b) {
-        int t = a;
-        a = b, b = t;
-    }
+    sw_t *w = s->w;
+    int a = w->tri[id], b = w->tri[sw_next(id)];
     double p[3];
-    return sw_heap_push(&s->w->heap, sw_edge_entry(s->w, qem_place(s, a, b, p), a, b));
+    sw_queue_set(&w->queue, id, qem_place(s, a < b ? a : b, a < b ? b : a, p),
+                 sw_edge_tie(a, b));
+}
+
+/* After merging into v every edge at v has a new quadric sum.  In v's fan
+ * (counter-clockwise) corner i is the edge v -> r_i and the corner before
+ * it holds the twin r_i -> v; the canonical id (sw_edge_id) of each is
+ * queued and the other dropped. */
+static void qem_requeue_at(qem_t *s, int v)
+{
+    sw_t *w = s->w;
+    const int32_t *fan = sw_fan(w, v);
+    int n = w->fan_n[v];
+    bool cycle = w->fan_kind[v] == SW_FAN_CYCLE;
+    if (w->fan_kind[v] == SW_FAN_BROKEN) {   /* cannot happen after a merge; be safe */
+        for (int i = 0; i < n; i++) {
+            int c = fan[i], x = w->tri[sw_next(c)], id = sw_edge_id(w, v, x);
+            int twin = id == c ? sw_find_corner(w, x, v) : c;
+            if (twin >= 0 && twin != id)
+                sw_queue_remove(&w->queue, twin);
+            qem_queue(s, id);
+        }
+        return;
+    }
+    for (int i = 0; i < n; i++) {
+        int out = fan[i], x = w->tri[sw_next(out)];
+        int in = i > 0 ? sw_prev(fan[i - 1]) : cycle ? sw_prev(fan[n - 1]) : -1;
+        int id = v < x || in < 0 ? out : in;
+        if (in >= 0)
+            sw_queue_remove(&w->queue, id == out ? in : out);
+        qem_queue(s, id);
+    }
+    if (!cycle)   /* the path's last edge, r_n -> v, has no corner at v */
+        qem_queue(s, sw_prev(fan[n - 1]));
 }
 
 pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
@@ -131,21 +162,27 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (!s.Q)
         return pp5_fail(PP5_E_NOMEM, "qem: out of memory for quadrics");
     qem_init_quadrics(&s, o->qem_boundary_weight);
-    pp5_status_t st = PP5_OK;
-    for (int f = 0; f < w->nf && st == PP5_OK; f++)
-        for (int c = 0; c < 3 && st == PP5_OK; c++) {
-            int a = w->tri[3 * f + c], b = w->tri[3 * f + (c + 1) % 3];
-            if (a < b || sw_opposite(w, b, a) < 0)
-                st = qem_push_edge(&s, a, b);
+    for (int c = 0; c < 3 * w->nf; c++) {   /* each edge once, under its canonical id */
+        int a = w->tri[c], b = w->tri[sw_next(c)];
+        if (a < b || sw_corner_on_boundary(w, c)) {
+            double p[3];
+            sw_queue_append(&w->queue, c, qem_place(&s, a < b ? a : b, a < b ? b : a, p),
+                            sw_edge_tie(a, b));
         }
-    sw_entry_t e;
+    }
+    sw_queue_heapify(&w->queue);
+    pp5_status_t st = PP5_OK;
+    sw_qentry_t e;
     sw_merge_t m;
-    while (st == PP5_OK && w->faces_alive > o->target_faces && sw_heap_pop(&w->heap, &e)) {
-        if (!sw_entry_current(w, &e))
-            continue;
+    while (st == PP5_OK && w->faces_alive > o->target_faces && sw_queue_pop(&w->queue, &e)) {
+        int a = w->tri[e.id], b = w->tri[sw_next(e.id)];
+        if (a > b) {
+            int t = a;
+            a = b, b = t;
+        }
         double p[3];
-        qem_place(&s, e.a, e.b, p);
-        int32_t S[2] = {e.a, e.b};
+        qem_place(&s, a, b, p);
+        int32_t S[2] = {a, b};
         sw_verdict_t v = sw_test_merge(w, S, 2, p, &m);
         if (v != SW_OK) {
             if (v == SW_FOLD)
@@ -156,10 +193,9 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
         }
         st = sw_apply_merge(w, S, 2, p, &m);
         for (int i = 0; i < 10; i++)
-            s.Q[e.a].q[i] += s.Q[e.b].q[i];
-        w->stamp[e.a]++;
-        for (int i = 0; i < m.n_ring && st == PP5_OK; i++)
-            st = qem_push_edge(&s, e.a, m.ring[i]);
+            s.Q[a].q[i] += s.Q[b].q[i];
+        if (st == PP5_OK)
+            qem_requeue_at(&s, a);
     }
     free(s.Q);
     return st;

@@ -26,16 +26,30 @@ typedef struct {
     seed001_cost_t cost;
     uint8_t *on_boundary;   /* per vertex, kept current */
     uint32_t *mark, epoch;  /* per face, for de-duplicating neighbourhoods */
+    double *plane;          /* per face: unit normal, offset, area (kept current) */
 } s001_t;
 
-static void unit_normal(const sw_t *w, int f, double n[3], double *area)
+/* The face's unit normal n, its plane offset -n.p0 and its area. */
+static void s001_face_plane(s001_t *s, int f)
 {
-    sw_face_normal(w, f, n);
-    double len = sqrt(sw_dot(n, n));
-    *area = 0.5 * len;
+    const sw_t *w = s->w;
+    double *pl = s->plane + 5 * f;
+    sw_face_normal(w, f, pl);
+    double len = sqrt(sw_dot(pl, pl));
+    pl[4] = 0.5 * len;
     if (len > 0)
         for (int k = 0; k < 3; k++)
-            n[k] /= len;
+            pl[k] /= len;
+    pl[3] = -sw_dot(pl, w->pos + 3 * w->tri[3 * f]);
+}
+
+static uint32_t s001_next_epoch(s001_t *s)
+{
+    if (++s->epoch == 0) {
+        memset(s->mark, 0, sizeof *s->mark * (size_t)s->w->nf);
+        s->epoch = 1;
+    }
+    return s->epoch;
 }
 
 /* The collapse point and cost of face f; false if f may not collapse. */
@@ -49,39 +63,35 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
             n_boundary++, pinned = j;
     if (n_boundary >= 2)
         return false;
-    double n0[3], a0, sum_w = 0, max_w = 0, area_sum = a0 = 0, lam[3] = {0, 0, 0};
-    unit_normal(w, f, n0, &a0);
-    area_sum = a0;
-    double planes[3 * SW_MAX_FAN][4];
+    const double *n0 = s->plane + 5 * f;
+    double a0 = n0[4], sum_w = 0, max_w = 0, area_sum = a0, lam[3] = {0, 0, 0};
+    int32_t nb[3 * SW_MAX_FAN];
     int k = 0;
-    if (++s->epoch == 0)
-        memset(s->mark, 0, sizeof *s->mark * (size_t)w->nf), s->epoch = 1;
-    s->mark[f] = s->epoch;
     for (int j = 0; j < 3; j++) {
-        const int32_t *fan = w->pool + w->fan_off[t[j]];
-        for (int i = 0; i < w->fan_n[t[j]]; i++) {
-            int g = fan[i];
-            if (s->mark[g] == s->epoch || k == 3 * SW_MAX_FAN)
+        const int32_t *fan = sw_fan(w, t[j]);
+        int n = w->fan_n[t[j]], lo = j == 0 ? 1 : 0, hi = j == 2 ? 1 : 2;
+        int t_lo = t[lo], t_hi = t[hi];
+        for (int i = 0; i < n && k < 3 * SW_MAX_FAN; i++) {
+            int c = fan[i], g = c / 3;
+            if (g == f)
                 continue;
-            s->mark[g] = s->epoch;
-            double ng[3], ag;
-            unit_normal(w, g, ng, &ag);
+            /* vertex-neighbour (one shared vertex, t[j]) or edge-neighbour (two):
+             * the face's other corners name the second one, if any; an
+             * edge-neighbour is in two of the fans and counts from the first */
+            int y = w->tri[sw_next(c)], z = w->tri[sw_prev(c)];
+            int second = t_hi == y || t_hi == z ? hi : t_lo == y || t_lo == z ? lo : -1;
+            if (second >= 0 && second < j)
+                continue;
+            const double *ng = s->plane + 5 * g;
             double wt = 1.0 - fabs(sw_dot(n0, ng));
-            /* shared vertices of g with T0: one (vertex-neighbour) or two (edge) */
-            int shared[3], ns = 0;
-            for (int q = 0; q < 3; q++)
-                for (int c = 0; c < 3; c++)
-                    if (w->tri[3 * g + c] == t[q])
-                        shared[ns++] = q;
-            for (int q = 0; q < ns; q++)
-                lam[shared[q]] += ns == 1 ? wt : 0.5 * wt;
+            if (second < 0)
+                lam[j] += wt;
+            else
+                lam[j] += 0.5 * wt, lam[second] += 0.5 * wt;
             sum_w += wt;
-            max_w = fmax(max_w, wt);
-            area_sum += ag;
-            const double *pg = w->pos + 3 * w->tri[3 * g];
-            memcpy(planes[k], ng, sizeof ng);
-            planes[k][3] = -sw_dot(ng, pg);
-            k++;
+            max_w = sw_max(max_w, wt);
+            area_sum += ng[4];
+            nb[k++] = g;
         }
     }
     if (pinned >= 0) {
@@ -98,8 +108,9 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
                 lam[2] * w->pos[3 * t[2] + c];
     double delta = 0;   /* eq. (5): the largest, not the summed, plane error */
     for (int i = 0; i < k; i++) {
-        double e = sw_dot(planes[i], v0) + planes[i][3];
-        delta = fmax(delta, e * e);
+        const double *pl = s->plane + 5 * nb[i];
+        double e = sw_dot(pl, v0) + pl[3];
+        delta = sw_max(delta, e * e);
     }
     double lar = area_sum > 0 ? a0 / area_sum : 0;             /* eq. (6) */
     double lri = k > 0 ? sum_w / k + max_w : 0;                 /* eq. (7) */
@@ -108,70 +119,68 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
     return true;
 }
 
-static pp5_status_t s001_push(s001_t *s, int f)
+static void s001_queue(s001_t *s, int f)
 {
     double v0[3], cost;
-    if (!s001_evaluate(s, f, v0, &cost))
-        return PP5_OK;
-    sw_entry_t e = {cost, f, -1, s->w->fstamp[f], 0};
-    return sw_heap_push(&s->w->heap, e);
+    if (s001_evaluate(s, f, v0, &cost))
+        sw_queue_set(&s->w->queue, f, cost, (uint64_t)f);
+    else
+        sw_queue_remove(&s->w->queue, f);
 }
 
-/* After a collapse at v: every face touching v or its ring has a new
- * neighbourhood; their boundary flags and costs are renewed. */
-static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
+/* After a collapse at v: v's faces moved; every face touching v or its ring
+ * has a new neighbourhood, so their boundary flags and costs are renewed. */
+static void s001_refresh(s001_t *s, int v, const sw_merge_t *m)
 {
     sw_t *w = s->w;
-    int32_t verts[SW_MAX_FAN + 1];
+    int32_t verts[SW_MAX_FAN + 2];
     int nv = 0;
     verts[nv++] = v;
     for (int i = 0; i < m->n_ring; i++)
         verts[nv++] = m->ring[i];
     for (int i = 0; i < nv; i++)
         s->on_boundary[verts[i]] = sw_vertex_on_boundary(w, verts[i]);
-    if (++s->epoch == 0)
-        memset(s->mark, 0, sizeof *s->mark * (size_t)w->nf), s->epoch = 1;
-    uint32_t ep = s->epoch;
+    const int32_t *vfan = sw_fan(w, v);
+    for (int i = 0; i < w->fan_n[v]; i++)
+        s001_face_plane(s, vfan[i] / 3);
+    uint32_t ep = s001_next_epoch(s);
     int32_t faces[4 * SW_MAX_FAN];
     int nf = 0;
     for (int i = 0; i < nv; i++) {
-        const int32_t *fan = w->pool + w->fan_off[verts[i]];
+        const int32_t *fan = sw_fan(w, verts[i]);
         for (int j = 0; j < w->fan_n[verts[i]] && nf < 4 * SW_MAX_FAN; j++)
-            if (s->mark[fan[j]] != ep) {
-                s->mark[fan[j]] = ep;
-                faces[nf++] = fan[j];
+            if (s->mark[fan[j] / 3] != ep) {
+                s->mark[fan[j] / 3] = ep;
+                faces[nf++] = fan[j] / 3;
             }
     }
-    pp5_status_t st = PP5_OK;
-    for (int i = 0; i < nf && st == PP5_OK; i++) {
-        w->fstamp[faces[i]]++;
-        st = s001_push(s, faces[i]);
-    }
-    return st;
+    for (int i = 0; i < nf; i++)
+        s001_queue(s, faces[i]);
 }
 
 pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
     s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, 1),
-                calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0};
-    if (!s.on_boundary || !s.mark) {
-        free(s.on_boundary), free(s.mark);
+                calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0,
+                malloc(sizeof(double) * 5 * ((size_t)w->nf + 1))};
+    if (!s.on_boundary || !s.mark || !s.plane) {
+        free(s.on_boundary), free(s.mark), free(s.plane);
         return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
     }
     for (int v = 0; v < w->nv; v++)
         s.on_boundary[v] = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
+    for (int f = 0; f < w->nf; f++)
+        s001_face_plane(&s, f);
+    for (int f = 0; f < w->nf; f++)
+        s001_queue(&s, f);
     pp5_status_t st = PP5_OK;
-    for (int f = 0; f < w->nf && st == PP5_OK; f++)
-        st = s001_push(&s, f);
-    sw_entry_t e;
+    sw_qentry_t e;
     sw_merge_t m;
-    while (st == PP5_OK && w->faces_alive > o->target_faces && sw_heap_pop(&w->heap, &e)) {
-        if (!sw_entry_current(w, &e))
-            continue;
+    while (st == PP5_OK && w->faces_alive > o->target_faces && sw_queue_pop(&w->queue, &e)) {
         double v0[3], cost;
-        if (!s001_evaluate(&s, e.a, v0, &cost))
+        if (!s001_evaluate(&s, e.id, v0, &cost))
             continue;
-        int32_t S[3] = {w->tri[3 * e.a], w->tri[3 * e.a + 1], w->tri[3 * e.a + 2]};
+        int32_t S[3] = {w->tri[3 * e.id], w->tri[3 * e.id + 1], w->tri[3 * e.id + 2]};
         sw_verdict_t v = sw_test_merge(w, S, 3, v0, &m);
         if (v != SW_OK) {
             if (v == SW_FOLD)
@@ -182,9 +191,10 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
         }
         st = sw_apply_merge(w, S, 3, v0, &m);
         if (st == PP5_OK)
-            st = s001_refresh(&s, S[0], &m);
+            s001_refresh(&s, S[0], &m);
     }
     free(s.on_boundary);
     free(s.mark);
+    free(s.plane);
     return st;
 }

@@ -19,6 +19,9 @@
 
 static const double PI = 3.14159265358979323846;
 
+/* Queue ids (edge corners) set aside while frozen (§2.3). */
+enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
+
 typedef struct {
     sw_t *w;
     const mesh_simplify_opts_t *o;
@@ -28,30 +31,55 @@ typedef struct {
     uint32_t *mark, mark_epoch;   /* vertices in the current update set */
     double mean_edge;
     int phase;
-    sw_heap_t deferred;
+    /* frozen edges: popped ones keep their key; re-costed ones are
+     * evaluated once, when they thaw (nothing they depend on can change
+     * before then without re-costing them again) */
+    uint8_t *dstate;
+    double *dcost;
+    uint64_t *dtie;
+    int32_t *dlist;
+    int dn, dcap;
+    double ring_table[S003_RING_TABLE_SIZE];
 } s003_t;
 
-static double angle_between(const double a[3], const double b[3])
+static double cos_between(const double a[3], const double b[3])
 {
     double l = sqrt(sw_dot(a, a) * sw_dot(b, b));
     if (!(l > 0))
-        return 0;
+        return 1.0;
     double c = sw_dot(a, b) / l;
-    return acos(c > 1 ? 1 : c < -1 ? -1 : c);
+    return c > 1 ? 1 : c < -1 ? -1 : c;
+}
+
+static double angle_between(const double a[3], const double b[3])
+{
+    return acos(cos_between(a, b));
+}
+
+/* The ends of v's boundary path (two boundary neighbours), or false. */
+static bool boundary_ends(const sw_t *w, int v, int nb[2])
+{
+    const int32_t *fan = sw_fan(w, v);
+    int n = 0;
+    if (w->fan_kind[v] == SW_FAN_PATH) {
+        nb[0] = w->tri[sw_next(fan[0])];
+        nb[1] = w->tri[sw_prev(fan[w->fan_n[v] - 1])];
+        return true;
+    }
+    for (int i = 0; i < w->fan_n[v] && n < 2; i++)
+        for (int k = 0; k < 2 && n < 2; k++) {
+            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            if ((n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1)
+                nb[n++] = x;
+        }
+    return n == 2;
 }
 
 /* The angle between the two boundary edges at v (0 on a straight boundary). */
 static double boundary_turn(const sw_t *w, int v)
 {
-    int nb[2], n = 0;
-    const int32_t *fan = w->pool + w->fan_off[v];
-    for (int i = 0; i < w->fan_n[v] && n < 2; i++)
-        for (int k = 0; k < 3; k++) {
-            int x = w->tri[3 * fan[i] + k];
-            if (x != v && (n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1 && n < 2)
-                nb[n++] = x;
-        }
-    if (n < 2)
+    int nb[2];
+    if (!boundary_ends(w, v, nb))
         return PI;
     const double *p = w->pos + 3 * v, *a = w->pos + 3 * nb[0], *b = w->pos + 3 * nb[1];
     double u[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
@@ -60,15 +88,23 @@ static double boundary_turn(const sw_t *w, int v)
 }
 
 /* §2.1: A1 = the widest pair of face normals; the others join the nearer of
- * the two; A2 = the wider of the two groups' cones. */
+ * the two; A2 = the wider of the two groups' cones.  Faces are taken in
+ * index order (the first widest pair wins a tie). */
 static void classify_vertex(s003_t *s, int v)
 {
     const sw_t *w = s->w;
     int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
     double nr[SW_MAX_FAN][3];
-    const int32_t *fan = w->pool + w->fan_off[v];
+    int32_t faces[SW_MAX_FAN];
+    const int32_t *fan = sw_fan(w, v);
+    for (int i = 0; i < n; i++) {
+        int j = i;
+        for (; j > 0 && faces[j - 1] > fan[i] / 3; j--)
+            faces[j] = faces[j - 1];
+        faces[j] = fan[i] / 3;
+    }
     for (int i = 0; i < n; i++)
-        sw_face_normal(w, fan[i], nr[i]);
+        sw_face_normal(w, faces[i], nr[i]);
     double a1 = 0;
     int bi = 0, bj = 0;
     for (int i = 0; i < n; i++)
@@ -108,29 +144,33 @@ static void stencil_point(const s003_t *s, const s003_stencil_t *st, double p[3]
             p[k] += st->w[i] * s->w->pos[3 * st->v[i] + k];
 }
 
-/* F(e) at new point p, or false if the merge is not allowed there. */
-static bool control_function(s003_t *s, int a, int b, const double p[3], double *F)
+static double dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* F(e) at new point p, or false if the merge is not allowed there (m: the
+ * merge test, reused by the deletion itself). */
+static bool control_function(s003_t *s, int a, int b, const double p[3], double *F,
+                             sw_merge_t *m)
 {
     const sw_t *w = s->w;
     int32_t S[2] = {a, b};
-    sw_merge_t m;
-    if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
+    if (sw_test_merge(w, S, 2, p, m) != SW_OK)
         return false;
-    double dmax = 0, smax = 0;
-    for (int i = 0; i < m.n_keep; i++)
-        dmax = fmax(dmax, angle_between(m.n_old[i], m.n_new[i]) / PI);
+    /* D: the largest turn, from the smallest cosine (acos falls monotonically) */
+    double cmin = 1.0, smax = 0;
+    for (int i = 0; i < m->n_keep; i++)
+        cmin = sw_min(cmin, cos_between(m->n_old[i], m->n_new[i]));
+    double dmax = acos(cmin) / PI;
     const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
-    double le = sqrt((pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
-                     (pa[2] - pb[2]) * (pa[2] - pb[2]));
-    for (int i = 0; i < m.n_removed; i++) {
-        const int32_t *t = w->tri + 3 * m.removed[i];
+    double le = dist(pa, pb);
+    for (int i = 0; i < m->n_removed; i++) {
+        const int32_t *t = w->tri + 3 * m->removed[i];
         int o = t[0] != a && t[0] != b ? t[0] : t[1] != a && t[1] != b ? t[1] : t[2];
         const double *po = w->pos + 3 * o;
-        double l1 = sqrt((pa[0] - po[0]) * (pa[0] - po[0]) + (pa[1] - po[1]) * (pa[1] - po[1]) +
-                         (pa[2] - po[2]) * (pa[2] - po[2]));
-        double l2 = sqrt((pb[0] - po[0]) * (pb[0] - po[0]) + (pb[1] - po[1]) * (pb[1] - po[1]) +
-                         (pb[2] - po[2]) * (pb[2] - po[2]));
-        double lmax = fmax(l1, l2);
+        double lmax = fmax(dist(pa, po), dist(pb, po));
         smax = fmax(smax, lmax > 0 ? le / lmax : 0);   /* Roundness = L_e / L_max */
     }
     int ph = s->phase;
@@ -139,8 +179,9 @@ static bool control_function(s003_t *s, int a, int b, const double p[3], double 
     return true;
 }
 
-/* The new point for deleting (a, b) under the chosen rule, and its cost. */
-static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F)
+/* The new point for deleting (a, b) (a < b) under the chosen rule, its cost
+ * and its merge test. */
+static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F, sw_merge_t *m)
 {
     s003_stencil_t st;
     if (!s003_stencil(&s->ctx, a, b, &st))
@@ -148,55 +189,95 @@ static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F)
     seed003_point_t mode = s->o->s003_point;
     if (st.which == S003_CASE_PINNED || mode == SEED003_POINT_STENCIL) {
         stencil_point(s, &st, p);
-        return control_function(s, a, b, p, F);
+        return control_function(s, a, b, p, F, m);
     }
     const double *pa = s->w->pos + 3 * a, *pb = s->w->pos + 3 * b;
     if (mode == SEED003_POINT_MIDPOINT) {
         for (int k = 0; k < 3; k++)
             p[k] = 0.5 * (pa[k] + pb[k]);
-        return control_function(s, a, b, p, F);
+        return control_function(s, a, b, p, F, m);
     }
     double fa, fb;   /* the better endpoint */
-    bool oka = control_function(s, a, b, pa, &fa), okb = control_function(s, a, b, pb, &fb);
+    bool oka = control_function(s, a, b, pa, &fa, m), okb = control_function(s, a, b, pb, &fb, m);
     if (!oka && !okb)
         return false;
     bool use_a = oka && (!okb || fa <= fb);
     memcpy(p, use_a ? pa : pb, 3 * sizeof *p);
     *F = use_a ? fa : fb;
+    if (use_a)   /* m holds b's test: redo a's */
+        control_function(s, a, b, pa, &fa, m);
     return true;
 }
 
-static pp5_status_t s003_push(s003_t *s, int a, int b)
+static bool s003_frozen(const s003_t *s, int a, int b)
 {
+    return s->o->s003_independent_sets && s->frozen[a] == s->epoch && s->frozen[b] == s->epoch;
+}
+
+static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
+{
+    if (s->dstate[id] == S003_LIVE) {
+        if (s->dn == s->dcap) {
+            int cap = s->dcap ? 2 * s->dcap : 4096;
+            int32_t *nl = realloc(s->dlist, sizeof *nl * (size_t)cap);
+            if (!nl)
+                return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for frozen edges");
+            s->dlist = nl, s->dcap = cap;
+        }
+        s->dlist[s->dn++] = id;
+    }
+    s->dstate[id] = state;
+    return PP5_OK;
+}
+
+static void s003_forget(s003_t *s, int id)
+{
+    sw_queue_remove(&s->w->queue, id);
+    s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
+}
+
+/* Re-costs edge c (tri[c] -> tri[next c]) under its canonical id: now, or at
+ * the thaw if it is frozen. */
+static pp5_status_t s003_queue_edge(s003_t *s, int c)
+{
+    sw_t *w = s->w;
+    int a = w->tri[c], b = w->tri[sw_next(c)];
+    int id = sw_edge_id(w, a, b), twin = id == c ? sw_find_corner(w, b, a) : c;
+    if (twin >= 0 && twin != id)
+        s003_forget(s, twin);
     if (a > b) {
         int t = a;
         a = b, b = t;
     }
+    if (s003_frozen(s, a, b)) {
+        sw_queue_remove(&w->queue, id);
+        return s003_defer(s, id, S003_DEFERRED_DIRTY);
+    }
     double p[3], F;
-    if (!s003_evaluate(s, a, b, p, &F))
-        return PP5_OK;
-    return sw_heap_push(&s->w->heap, sw_edge_entry(s->w, F, a, b));
+    sw_merge_t m;
+    if (s003_evaluate(s, a, b, p, &F, &m))
+        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+    else
+        sw_queue_remove(&w->queue, id);
+    return PP5_OK;
 }
 
-static pp5_status_t push_all_edges(s003_t *s)
+static pp5_status_t queue_all_edges(s003_t *s)
 {
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
-    for (int f = 0; f < w->nf && st == PP5_OK; f++) {
-        if (!w->face_alive[f])
+    for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
+        if (!w->face_alive[c / 3])
             continue;
-        for (int c = 0; c < 3 && st == PP5_OK; c++) {
-            int a = w->tri[3 * f + c], b = w->tri[3 * f + (c + 1) % 3];
-            if (a < b || sw_opposite(w, b, a) < 0)
-                st = s003_push(s, a, b);
-        }
+        if (w->tri[c] < w->tri[sw_next(c)] || sw_corner_on_boundary(w, c))
+            st = s003_queue_edge(s, c);
     }
     return st;
 }
 
-/* After deleting an edge into v: v inherits the higher importance, and every
- * edge at v or at its ring is re-costed (their stencils and D terms reach
- * the moved faces). */
+/* After deleting an edge into v: v inherits the higher importance; v and
+ * its ring freeze; every edge with an end in {v} u ring is re-costed (their
+ * stencils, D, S and L terms reach only that far: ARCHITECTURE.md). */
 static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
 {
     sw_t *w = s->w;
@@ -205,63 +286,98 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
     s->corner[v] |= s->corner[gone];
     if (++s->mark_epoch == 0)
         memset(s->mark, 0, sizeof *s->mark * (size_t)w->nv), s->mark_epoch = 1;
-    int32_t set[SW_MAX_FAN + 1];
+    int32_t set[SW_MAX_FAN + 2];
     int n = 0;
     set[n++] = v;
     for (int i = 0; i < m->n_ring; i++)
         set[n++] = m->ring[i];
     for (int i = 0; i < n; i++) {
         s->mark[set[i]] = s->mark_epoch;
-        w->stamp[set[i]]++;
         if (s->o->s003_independent_sets)
             s->frozen[set[i]] = s->epoch;
     }
     pp5_status_t st = PP5_OK;
     for (int i = 0; i < n && st == PP5_OK; i++) {
         int x = set[i];
-        const int32_t *fan = w->pool + w->fan_off[x];
-        for (int j = 0; j < w->fan_n[x] && st == PP5_OK; j++)
-            for (int c = 0; c < 3 && st == PP5_OK; c++) {
-                int y = w->tri[3 * fan[j] + c];
-                /* each edge once: from x toward the next corner only, and from
-                 * the smaller end when both ends are in the set */
-                if (y == x || w->tri[3 * fan[j] + (c + 2) % 3] != x)
-                    continue;
-                if (s->mark[y] == s->mark_epoch && y < x && sw_opposite(w, y, x) >= 0)
-                    continue;
-                st = s003_push(s, x, y);
-                if (st == PP5_OK && sw_opposite(w, y, x) < 0) {
-                    /* boundary edge into x: also reached from its other side */
-                }
-            }
-        /* boundary edges where x is the far end */
-        const int32_t *fan2 = w->pool + w->fan_off[x];
-        for (int j = 0; j < w->fan_n[x] && st == PP5_OK; j++)
-            for (int c = 0; c < 3 && st == PP5_OK; c++)
-                if (w->tri[3 * fan2[j] + c] == x) {
-                    int prev = w->tri[3 * fan2[j] + (c + 2) % 3];
-                    if (sw_opposite(w, x, prev) < 0 && s->mark[prev] != s->mark_epoch)
-                        st = s003_push(s, prev, x);
-                }
+        const int32_t *fan = sw_fan(w, x);
+        for (int j = 0; j < w->fan_n[x] && st == PP5_OK; j++) {
+            int c = fan[j], y = w->tri[sw_next(c)], pc = sw_prev(c);
+            /* x -> y once: from the smaller end when both ends are in the set */
+            bool twin = !sw_corner_on_boundary(w, c);
+            if (!(s->mark[y] == s->mark_epoch && y < x && twin))
+                st = s003_queue_edge(s, c);
+            /* a boundary edge into x from outside the set is no out-edge of the set */
+            if (st == PP5_OK && s->mark[w->tri[pc]] != s->mark_epoch &&
+                sw_corner_on_boundary(w, pc))
+                st = s003_queue_edge(s, pc);
+        }
     }
     return st;
 }
 
-static bool s003_frozen(const s003_t *s, const sw_entry_t *e)
+/* Every queued edge is frozen: thaw them all (§2.3). */
+static void s003_thaw(s003_t *s)
 {
-    return s->o->s003_independent_sets && s->frozen[e->a] == s->epoch &&
-           s->frozen[e->b] == s->epoch;
+    sw_t *w = s->w;
+    s->epoch++;
+    w->stats->unfreezes++;
+    for (int i = 0; i < s->dn; i++) {
+        int id = s->dlist[i];
+        uint8_t state = s->dstate[id];
+        s->dstate[id] = S003_LIVE;
+        if (state == S003_DEFERRED) {
+            sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
+        } else if (state == S003_DEFERRED_DIRTY) {
+            int a = w->tri[id], b = w->tri[sw_next(id)];
+            double p[3], F;
+            sw_merge_t m;
+            if (s003_evaluate(s, a < b ? a : b, a < b ? b : a, p, &F, &m))
+                sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+        }
+    }
+    s->dn = 0;
 }
 
-/* Phase 2 (§2.3): new weights, every queued edge re-costed and re-sorted. */
+/* Phase 2 (§2.3): new weights, every edge re-costed and re-sorted. */
 static pp5_status_t s003_switch_phase(s003_t *s)
 {
+    sw_t *w = s->w;
     s->phase = 1;
-    s->w->stats->phase_switch_merge = s->w->stats->merges;
-    s->w->heap.n = 0;
-    s->deferred.n = 0;
+    w->stats->phase_switch_merge = w->stats->merges;
+    while (w->queue.n > 0)
+        sw_queue_remove(&w->queue, w->queue.e[w->queue.n - 1].id);
+    for (int i = 0; i < s->dn; i++)
+        s->dstate[s->dlist[i]] = S003_LIVE;
+    s->dn = 0;
     s->epoch++;
-    return push_all_edges(s);
+    return queue_all_edges(s);
+}
+
+/* Deletes one edge popped from the queue, if it may go. */
+static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
+{
+    sw_t *w = s->w;
+    int a = w->tri[e->id], b = w->tri[sw_next(e->id)];
+    if (a > b) {
+        int t = a;
+        a = b, b = t;
+    }
+    if (s003_frozen(s, a, b)) {
+        s->dcost[e->id] = e->cost, s->dtie[e->id] = e->tie;
+        return s003_defer(s, e->id, S003_DEFERRED);
+    }
+    double p[3], F;
+    sw_merge_t m;
+    if (!s003_evaluate(s, a, b, p, &F, &m)) {
+        w->stats->refused_other++;   /* its queue entry came with an allowed merge */
+        return PP5_OK;
+    }
+    int32_t S[2] = {a, b};
+    pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
+    for (int r = 0; r < m.n_removed; r++)
+        for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
+            s->dstate[c] = S003_LIVE;
+    return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
 }
 
 static pp5_status_t s003_loop(s003_t *s)
@@ -269,86 +385,66 @@ static pp5_status_t s003_loop(s003_t *s)
     sw_t *w = s->w;
     const mesh_simplify_opts_t *o = s->o;
     pp5_status_t st = PP5_OK;
-    sw_entry_t e;
-    sw_merge_t m;
+    sw_qentry_t e;
     double switch_at = o->s003_switch_fraction * w->input_faces;
     while (st == PP5_OK && w->faces_alive > o->target_faces) {
         if (s->phase == 0 && o->s003_switch_fraction > 0 && w->faces_alive <= switch_at) {
             st = s003_switch_phase(s);
             continue;
         }
-        if (!sw_heap_pop(&w->heap, &e)) {
-            if (s->deferred.n == 0)
-                break;
-            /* every queued edge is frozen: thaw them all (§2.3) */
-            s->epoch++;
-            w->stats->unfreezes++;
-            for (size_t i = 0; i < s->deferred.n && st == PP5_OK; i++)
-                st = sw_heap_push(&w->heap, s->deferred.e[i]);
-            s->deferred.n = 0;
+        if (sw_queue_pop(&w->queue, &e)) {
+            st = s003_delete(s, &e);
             continue;
         }
-        if (!sw_entry_current(w, &e))
-            continue;
-        if (s003_frozen(s, &e)) {
-            st = sw_heap_push(&s->deferred, e);
-            continue;
-        }
-        double p[3], F;
-        if (!s003_evaluate(s, e.a, e.b, p, &F)) {
-            w->stats->refused_other++;
-            continue;
-        }
-        int32_t S[2] = {e.a, e.b};
-        sw_verdict_t v = sw_test_merge(w, S, 2, p, &m);
-        if (v != SW_OK) {
-            if (v == SW_FOLD)
-                w->stats->refused_fold++;
-            else
-                w->stats->refused_topology++;
-            continue;
-        }
-        st = sw_apply_merge(w, S, 2, p, &m);
-        if (st == PP5_OK)
-            st = s003_refresh(s, e.a, e.b, &m);
+        if (s->dn == 0)
+            break;
+        s003_thaw(s);
     }
     return st;
 }
 
-pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
+static double mean_edge_length(const sw_t *w)
 {
-    s003_t s;
-    memset(&s, 0, sizeof s);
-    s.w = w, s.o = o, s.epoch = 1;
-    s.importance = calloc((size_t)w->nv + 1, 1);
-    s.corner = calloc((size_t)w->nv + 1, 1);
-    s.frozen = calloc((size_t)w->nv + 1, sizeof *s.frozen);
-    s.mark = calloc((size_t)w->nv + 1, sizeof *s.mark);
-    pp5_status_t st = PP5_OK;
-    if (!s.importance || !s.corner || !s.frozen || !s.mark)
-        st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     double total = 0;
     long edges = 0;
-    for (int f = 0; f < w->nf && st == PP5_OK; f++)
-        for (int c = 0; c < 3; c++) {
-            const double *pa = w->pos + 3 * w->tri[3 * f], *pb;
-            pa = w->pos + 3 * w->tri[3 * f + c];
-            pb = w->pos + 3 * w->tri[3 * f + (c + 1) % 3];
-            total += sqrt((pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
-                          (pa[2] - pb[2]) * (pa[2] - pb[2]));
-            edges++;
-        }
-    s.mean_edge = edges && total > 0 ? total / (double)edges : 1.0;
+    for (int c = 0; c < 3 * w->nf; c++) {
+        total += dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->tri[sw_next(c)]);
+        edges++;
+    }
+    return edges && total > 0 ? total / (double)edges : 1.0;
+}
+
+pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
+{
+    s003_t *s = calloc(1, sizeof *s);
+    if (!s)
+        return pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
+    s->w = w, s->o = o, s->epoch = 1;
+    size_t nv = (size_t)w->nv + 1, nc = 3 * (size_t)w->nf + 1;
+    s->importance = calloc(nv, 1);
+    s->corner = calloc(nv, 1);
+    s->frozen = calloc(nv, sizeof *s->frozen);
+    s->mark = calloc(nv, sizeof *s->mark);
+    s->dstate = calloc(nc, 1);
+    s->dcost = malloc(sizeof *s->dcost * nc);
+    s->dtie = malloc(sizeof *s->dtie * nc);
+    pp5_status_t st = PP5_OK;
+    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dcost ||
+        !s->dtie)
+        st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
+    s->mean_edge = mean_edge_length(w);
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
         if (w->vert_alive[v])
-            classify_vertex(&s, v);
-    s.ctx = (s003_context_t){w, s.importance, s.corner, o->s003_pin_corners,
-                             cos(o->s003_crease_deg * PI / 180)};
+            classify_vertex(s, v);
+    s003_ring_table_fill(s->ring_table);
+    s->ctx = (s003_context_t){w, s->importance, s->corner, o->s003_pin_corners,
+                              cos(o->s003_crease_deg * PI / 180), s->ring_table};
     if (st == PP5_OK)
-        st = push_all_edges(&s);
+        st = queue_all_edges(s);
     if (st == PP5_OK)
-        st = s003_loop(&s);
-    free(s.importance), free(s.corner), free(s.frozen), free(s.mark);
-    sw_heap_free(&s.deferred);
+        st = s003_loop(s);
+    free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
+    free(s->dstate), free(s->dcost), free(s->dtie), free(s->dlist);
+    free(s);
     return st;
 }

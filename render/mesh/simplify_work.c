@@ -1,32 +1,32 @@
-/* simplify_work.c: the working mesh of the simplifiers: fans, the merge test
- * (one manifold link, no fold-over), the merge and its record steps, and the
- * candidate queue. */
+/* simplify_work.c: the working mesh of the simplifiers: corner fans in
+ * rotational order, neighbourhood queries, the merge test (one manifold link,
+ * no fold-over), and the merge with its record steps. */
 #include "simplify_work.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static pp5_status_t sw_alloc(sw_t *w)
+static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
 {
     size_t nv = (size_t)w->nv + 1, nf = (size_t)w->nf + 1;
     w->pos = malloc(sizeof *w->pos * 3 * nv);
     w->tri = malloc(sizeof *w->tri * 3 * nf);
     w->face_alive = malloc(nf);
     w->vert_alive = calloc(nv, 1);
+    w->fan_kind = calloc(nv, 1);
     w->fan_off = malloc(sizeof *w->fan_off * nv);
     w->fan_n = calloc(nv, sizeof *w->fan_n);
     w->fan_cap = malloc(sizeof *w->fan_cap * nv);
-    w->stamp = calloc(nv, sizeof *w->stamp);
-    w->fstamp = calloc(nf, sizeof *w->fstamp);
     w->rec_id = malloc(sizeof *w->rec_id * nv);
-    w->pool_cap = 2 * 3 * nf + 64;
+    w->pool_cap = 3 * nf + 2 * nv + 64;
     w->pool = malloc(sizeof *w->pool * w->pool_cap);
-    if (!w->pos || !w->tri || !w->face_alive || !w->vert_alive || !w->fan_off || !w->fan_n ||
-        !w->fan_cap || !w->stamp || !w->fstamp || !w->rec_id || !w->pool)
+    if (!w->pos || !w->tri || !w->face_alive || !w->vert_alive || !w->fan_kind ||
+        !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool)
         return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for %d vertices", w->nv);
-    if (!w->recording)
-        return PP5_OK;
+    pp5_status_t st = sw_queue_init(&w->queue, queue_ids);
+    if (st != PP5_OK || !w->recording)
+        return st;
     w->r_cap = 2 * nv;
     w->r_pos = malloc(sizeof *w->r_pos * 3 * w->r_cap);
     w->r_parent = malloc(sizeof *w->r_parent * w->r_cap);
@@ -52,14 +52,95 @@ static void sw_push_level(sw_t *w)
     w->r_levels++;
 }
 
-pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, mesh_simplify_stats_t *st)
+/* Puts the corners at v in counter-clockwise order: the successor of corner
+ * c is the corner whose edge leaves v toward tri[prev c].  A path starts at
+ * the corner with no predecessor (its edge is on the boundary); a cycle
+ * starts at its lowest corner, so the order depends only on the mesh, not
+ * on the merges that made it.  Anything else (several pieces: a pinched
+ * vertex) is BROKEN and left in ascending corner order.  Returns false if
+ * two corners leave v toward the same vertex (an edge with three faces or
+ * two faces of opposite orientation). */
+static bool order_fan(sw_t *w, int v)
+{
+    int32_t *fan = w->pool + w->fan_off[v];
+    int n = w->fan_n[v];
+    if (n > SW_MAX_FAN) {   /* too many faces to merge anyway: not worth ordering */
+        w->fan_kind[v] = SW_FAN_BROKEN;
+        return true;
+    }
+    int32_t nxt[SW_MAX_FAN], prv[SW_MAX_FAN], ordered[SW_MAX_FAN];
+    int start = -1, starts = 0, lowest = 0;
+    bool unique = true;
+    for (int i = 0; i < n; i++) {
+        nxt[i] = w->tri[sw_next(fan[i])];
+        prv[i] = w->tri[sw_prev(fan[i])];
+        if (fan[i] < fan[lowest])
+            lowest = i;
+    }
+    for (int i = 0; i < n; i++) {
+        bool has_pred = false;
+        for (int j = 0; j < n; j++) {
+            has_pred |= prv[j] == nxt[i];
+            unique &= j <= i || nxt[j] != nxt[i];
+        }
+        if (!has_pred && starts++ == 0)
+            start = i;
+    }
+    int got = 0;
+    if (n > 0 && starts <= 1 && unique) {
+        int at = starts ? start : lowest;
+        ordered[got++] = fan[at];
+        while (got <= n) {
+            int succ = -1;
+            for (int j = 0; j < n; j++)
+                if (nxt[j] == prv[at])
+                    succ = j;
+            if (succ < 0 || fan[succ] == ordered[0])
+                break;
+            ordered[got++] = fan[at = succ];
+        }
+    }
+    if (n > 0 && got == n) {
+        memcpy(fan, ordered, sizeof *fan * (size_t)n);
+        w->fan_kind[v] = starts ? SW_FAN_PATH : SW_FAN_CYCLE;
+        return unique;
+    }
+    for (int i = 1; i < n; i++)   /* insertion sort: fans are short */
+        for (int j = i; j > 0 && fan[j - 1] > fan[j]; j--) {
+            int32_t t = fan[j];
+            fan[j] = fan[j - 1], fan[j - 1] = t;
+        }
+    w->fan_kind[v] = SW_FAN_BROKEN;
+    return unique;
+}
+
+/* A cycle starts again at its lowest corner (after a face left it). */
+static void restart_cycle(sw_t *w, int v)
+{
+    int32_t *fan = w->pool + w->fan_off[v];
+    int n = w->fan_n[v], lowest = 0;
+    if (w->fan_kind[v] != SW_FAN_CYCLE)
+        return;
+    for (int i = 1; i < n; i++)
+        if (fan[i] < fan[lowest])
+            lowest = i;
+    if (lowest == 0)
+        return;
+    int32_t tmp[SW_MAX_FAN];
+    memcpy(tmp, fan, sizeof *fan * (size_t)lowest);
+    memmove(fan, fan + lowest, sizeof *fan * (size_t)(n - lowest));
+    memcpy(fan + n - lowest, tmp, sizeof *fan * (size_t)lowest);
+}
+
+pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
+                     mesh_simplify_stats_t *st)
 {
     memset(w, 0, sizeof *w);
     w->nv = in->n_vertices;
     w->nf = in->n_faces;
     w->recording = recording;
     w->stats = st;
-    pp5_status_t s = sw_alloc(w);
+    pp5_status_t s = sw_alloc(w, queue_ids);
     if (s != PP5_OK) {
         sw_free(w);
         return s;
@@ -81,11 +162,13 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, mesh_simplify_st
         w->rec_id[v] = v;
     }
     w->pool_n = off;
-    for (int f = 0; f < w->nf; f++)
-        for (int k = 0; k < 3; k++) {
-            int v = w->tri[3 * f + k];
-            w->pool[w->fan_off[v] + w->fan_n[v]++] = f;
-        }
+    for (int c = 0; c < 3 * w->nf; c++) {
+        int v = w->tri[c];
+        w->pool[w->fan_off[v] + w->fan_n[v]++] = c;
+    }
+    w->manifold = true;
+    for (int v = 0; v < w->nv; v++)
+        w->manifold &= order_fan(w, v);
     if (recording) {
         memcpy(w->r_pos, in->pos, sizeof *w->r_pos * 3 * (size_t)w->nv);
         for (int v = 0; v < w->nv; v++)
@@ -100,13 +183,34 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, mesh_simplify_st
 
 void sw_free(sw_t *w)
 {
-    free(w->pos), free(w->tri), free(w->face_alive), free(w->vert_alive);
-    free(w->fan_off), free(w->fan_n), free(w->fan_cap), free(w->pool);
-    free(w->stamp), free(w->fstamp), free(w->rec_id);
+    free(w->pos), free(w->tri), free(w->face_alive), free(w->vert_alive), free(w->fan_kind);
+    free(w->fan_off), free(w->fan_n), free(w->fan_cap), free(w->pool), free(w->rec_id);
     free(w->r_pos), free(w->r_parent), free(w->r_death), free(w->r_face_death);
     free(w->r_level_step), free(w->r_level_faces), free(w->r_level_vertices);
-    sw_heap_free(&w->heap);
+    sw_queue_free(&w->queue);
     memset(w, 0, sizeof *w);
+}
+
+pp5_status_t sw_check_edge_manifold(const sw_t *w, const char *source)
+{
+    /* An edge with three faces, or two of opposite orientation, has some
+     * direction twice: sw_init saw it.  The scan below names the first. */
+    if (w->manifold)
+        return PP5_OK;
+    for (int c = 0; c < 3 * w->nf; c++) {
+        int a = w->tri[c], b = w->tri[sw_next(c)];
+        int same = 0, faces = sw_edge_faces(w, a, b);
+        const int32_t *fan = sw_fan(w, a);
+        for (int i = 0; i < w->fan_n[a]; i++)
+            same += w->tri[sw_next(fan[i])] == b;
+        if (a < b && faces > 2)
+            return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d has %d faces (the simplifiers need an "
+                            "edge-manifold mesh)", source, a + 1, b + 1, faces);
+        if (same > 1)
+            return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d is traversed the same way by two "
+                            "faces (inconsistent orientation)", source, a + 1, b + 1);
+    }
+    return PP5_OK;
 }
 
 void sw_face_normal(const sw_t *w, int f, double n[3])
@@ -121,50 +225,64 @@ void sw_face_normal(const sw_t *w, int f, double n[3])
 int sw_edge_faces(const sw_t *w, int a, int b)
 {
     int n = 0;
-    const int32_t *fan = w->pool + w->fan_off[a];
-    for (int i = 0; i < w->fan_n[a]; i++) {
-        const int32_t *t = w->tri + 3 * fan[i];
-        n += t[0] == b || t[1] == b || t[2] == b;
-    }
+    const int32_t *fan = sw_fan(w, a);
+    for (int i = 0; i < w->fan_n[a]; i++)
+        n += w->tri[sw_next(fan[i])] == b || w->tri[sw_prev(fan[i])] == b;
     return n;
 }
 
-int sw_opposite(const sw_t *w, int a, int b)
+int sw_find_corner(const sw_t *w, int a, int b)
 {
-    const int32_t *fan = w->pool + w->fan_off[a];
-    for (int i = 0; i < w->fan_n[a]; i++) {
-        const int32_t *t = w->tri + 3 * fan[i];
-        for (int k = 0; k < 3; k++)
-            if (t[k] == a && t[(k + 1) % 3] == b)
-                return t[(k + 2) % 3];
-    }
+    const int32_t *fan = sw_fan(w, a);
+    for (int i = 0; i < w->fan_n[a]; i++)
+        if (w->tri[sw_next(fan[i])] == b)
+            return fan[i];
     return -1;
+}
+
+bool sw_corner_on_boundary(const sw_t *w, int c)
+{
+    int v = w->tri[c];
+    if (w->fan_kind[v] == SW_FAN_CYCLE)
+        return false;
+    if (w->fan_kind[v] == SW_FAN_PATH)
+        return sw_fan(w, v)[0] == c;
+    return sw_find_corner(w, w->tri[sw_next(c)], v) < 0;
 }
 
 bool sw_vertex_on_boundary(const sw_t *w, int v)
 {
-    const int32_t *fan = w->pool + w->fan_off[v];
-    for (int i = 0; i < w->fan_n[v]; i++) {
-        const int32_t *t = w->tri + 3 * fan[i];
-        int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-        if (sw_opposite(w, t[(k + 1) % 3], v) < 0)
+    if (w->fan_kind[v] != SW_FAN_BROKEN)
+        return w->fan_kind[v] == SW_FAN_PATH;
+    const int32_t *fan = sw_fan(w, v);
+    for (int i = 0; i < w->fan_n[v]; i++)
+        if (sw_corner_on_boundary(w, fan[i]))
             return true;
-    }
     return false;
+}
+
+int sw_edge_id(const sw_t *w, int a, int b)
+{
+    int lo = a < b ? a : b, hi = a < b ? b : a;
+    int c = sw_find_corner(w, lo, hi);
+    return c >= 0 ? c : sw_find_corner(w, hi, lo);
 }
 
 int sw_ring(const sw_t *w, int v, int first, int32_t *ring, int cap)
 {
-    int n = 0, x = first;
-    do {
-        if (n == cap)
-            return -1;
-        ring[n++] = x;
-        x = sw_opposite(w, v, x);
-        if (x < 0)
-            return -1;
-    } while (x != first && n <= w->fan_n[v]);
-    return x == first && n == w->fan_n[v] ? n : -1;
+    int n = w->fan_n[v];
+    if (w->fan_kind[v] != SW_FAN_CYCLE || n > cap)
+        return -1;
+    const int32_t *fan = sw_fan(w, v);
+    int at = -1;
+    for (int i = 0; i < n && at < 0; i++)
+        if (w->tri[sw_next(fan[i])] == first)
+            at = i;
+    if (at < 0)
+        return -1;
+    for (int j = 0; j < n; j++)
+        ring[j] = w->tri[sw_next(fan[(at + j) % n])];
+    return n;
 }
 
 static int in_set(const int32_t *S, int k, int v)
@@ -181,47 +299,87 @@ static sw_verdict_t gather_faces(const sw_t *w, const int32_t *S, int k, sw_merg
 {
     m->n_keep = m->n_removed = 0;
     for (int i = 0; i < k; i++) {
-        const int32_t *fan = w->pool + w->fan_off[S[i]];
+        const int32_t *fan = sw_fan(w, S[i]);
         for (int j = 0; j < w->fan_n[S[i]]; j++) {
-            int f = fan[j];
-            const int32_t *t = w->tri + 3 * f;
-            int members = 0, first_member = 3;
-            for (int c = 0; c < 3; c++)
-                if (in_set(S, k, t[c]) >= 0)
-                    members++, first_member = c < first_member ? c : first_member;
-            /* a face shared by several of S is seen once, from its first member */
-            if (in_set(S, k, t[first_member]) != i)
-                continue;
-            if (members >= 2) {
+            int c = fan[j], cn = sw_next(c), cp = sw_prev(c);
+            bool yn = in_set(S, k, w->tri[cn]) >= 0, yp = in_set(S, k, w->tri[cp]) >= 0;
+            if (yn || yp) {
+                /* a face shared by several of S is seen once, from the member
+                 * at its lowest corner */
+                int first = c;
+                if (yn && cn < first)
+                    first = cn;
+                if (yp && cp < first)
+                    first = cp;
+                if (first != c)
+                    continue;
                 if (m->n_removed == SW_MAX_FAN)
                     return SW_TOPOLOGY;
-                m->removed[m->n_removed++] = f;
+                m->removed[m->n_removed++] = c / 3;
                 continue;
             }
             if (m->n_keep == SW_MAX_FAN)
                 return SW_TOPOLOGY;
-            int c = first_member;
-            src[m->n_keep] = t[(c + 1) % 3];
-            dst[m->n_keep] = t[(c + 2) % 3];
-            m->keep[m->n_keep++] = f;
+            src[m->n_keep] = w->tri[cn];
+            dst[m->n_keep] = w->tri[cp];
+            m->keep[m->n_keep++] = c;
         }
     }
     return m->n_keep ? SW_OK : SW_TOPOLOGY;
+}
+
+/* For each link edge i: next[i] = the edge starting where i ends (-1: none);
+ * as_dst[i] = how many edges end where i starts.  False if two edges start
+ * at one vertex.  Small links go through a 64-slot hash of vertex ids. */
+#define LINK_SLOTS 64
+static bool link_successors(int n, const int32_t *src, const int32_t *dst, int32_t *next,
+                            int32_t *as_dst)
+{
+    if (n > LINK_SLOTS / 3) {
+        for (int i = 0; i < n; i++) {
+            next[i] = -1, as_dst[i] = 0;
+            for (int j = 0; j < n; j++) {
+                if (j != i && src[j] == src[i])
+                    return false;
+                as_dst[i] += dst[j] == src[i];
+                if (src[j] == dst[i])
+                    next[i] = j;
+            }
+        }
+        return true;
+    }
+    int32_t key[LINK_SLOTS], idx[LINK_SLOTS];
+    memset(key, -1, sizeof key);
+    for (int i = 0; i < n; i++) {
+        unsigned h = ((uint32_t)src[i] * 2654435761u) >> 26;
+        while (key[h] >= 0 && key[h] != src[i])
+            h = (h + 1) & (LINK_SLOTS - 1);
+        if (key[h] == src[i])
+            return false;
+        key[h] = src[i], idx[h] = i, as_dst[i] = 0;
+    }
+    for (int i = 0; i < n; i++) {
+        unsigned h = ((uint32_t)dst[i] * 2654435761u) >> 26;
+        while (key[h] >= 0 && key[h] != dst[i])
+            h = (h + 1) & (LINK_SLOTS - 1);
+        next[i] = key[h] == dst[i] ? idx[h] : -1;
+        if (next[i] >= 0)
+            as_dst[next[i]]++;
+    }
+    return true;
 }
 
 /* The link (src -> dst edges) must be one cycle of >= 3 edges or one path. */
 static sw_verdict_t check_link(sw_merge_t *m, const int32_t *src, const int32_t *dst)
 {
     int n = m->n_keep, start = -1;
+    int32_t next[SW_MAX_FAN], as_dst[SW_MAX_FAN];
+    if (!link_successors(n, src, dst, next, as_dst))
+        return SW_TOPOLOGY;
     for (int i = 0; i < n; i++) {
-        int as_src = 0, as_dst = 0;
-        for (int j = 0; j < n; j++) {
-            as_src += src[j] == src[i];
-            as_dst += dst[j] == src[i];
-        }
-        if (as_src > 1 || as_dst > 1)
+        if (as_dst[i] > 1)
             return SW_TOPOLOGY;
-        if (as_dst == 0) {
+        if (as_dst[i] == 0) {
             if (start >= 0)
                 return SW_TOPOLOGY;   /* two path starts: the link has two pieces */
             start = i;
@@ -231,23 +389,27 @@ static sw_verdict_t check_link(sw_merge_t *m, const int32_t *src, const int32_t 
     if (!m->boundary && n < 3)
         return SW_TOPOLOGY;
     int at = m->boundary ? start : 0, walked = 0;
+    int32_t order[SW_MAX_FAN];
     m->n_ring = 0;
     m->ring[m->n_ring++] = src[at];
+    order[0] = at;
     while (walked < n) {
         walked++;
-        int next = -1;
-        for (int j = 0; j < n; j++)
-            if (src[j] == dst[at])
-                next = j;
-        if (next < 0 || next == (m->boundary ? -1 : 0))
+        int nx = next[at];
+        if (nx < 0 || nx == (m->boundary ? -1 : 0))
             break;
-        m->ring[m->n_ring++] = src[next];
-        at = next;
+        m->ring[m->n_ring++] = src[nx];
+        order[walked] = at = nx;
     }
     if (walked != n)
         return SW_TOPOLOGY;
     if (m->boundary)
         m->ring[m->n_ring++] = dst[at];
+    /* the kept faces in walk order: the merged vertex's fan, counter-clockwise */
+    int32_t keep[SW_MAX_FAN];
+    for (int i = 0; i < n; i++)
+        keep[i] = m->keep[order[i]];
+    memcpy(m->keep, keep, sizeof *keep * (size_t)n);
     return SW_OK;
 }
 
@@ -261,13 +423,11 @@ sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double 
     if (v != SW_OK)
         return v;
     for (int i = 0; i < m->n_keep; i++) {
-        int f = m->keep[i];
-        double q[3][3];
-        for (int c = 0; c < 3; c++) {
-            int vert = w->tri[3 * f + c];
-            const double *src_p = in_set(S, k, vert) >= 0 ? p : w->pos + 3 * vert;
-            memcpy(q[c], src_p, sizeof q[c]);
-        }
+        int c = m->keep[i], f = c / 3;
+        const double *q[3];
+        for (int j = 0; j < 3; j++)
+            q[j] = w->pos + 3 * w->tri[3 * f + j];
+        q[c % 3] = p;   /* the one corner of the face in S moves to p */
         sw_face_normal(w, f, m->n_old[i]);
         double u[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
         double t[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
@@ -276,23 +436,27 @@ sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double 
         /* a new face of (almost) no area has no orientation left to keep */
         if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
             return SW_FOLD;
-        if (lo > 0 && sw_dot(m->n_old[i], m->n_new[i]) <= w->fold_cos_min * sqrt(lo * ln))
+        double d = sw_dot(m->n_old[i], m->n_new[i]);
+        if (lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)))
             return SW_FOLD;
     }
     return SW_OK;
 }
 
-static void fan_remove(sw_t *w, int v, int f)
+/* Drops corner c from its vertex's fan, keeping the order of the rest. */
+static void fan_remove(sw_t *w, int v, int c)
 {
     int32_t *fan = w->pool + w->fan_off[v];
-    for (int i = 0; i < w->fan_n[v]; i++)
-        if (fan[i] == f) {
-            fan[i] = fan[--w->fan_n[v]];
+    int n = w->fan_n[v];
+    for (int i = 0; i < n; i++)
+        if (fan[i] == c) {
+            memmove(fan + i, fan + i + 1, sizeof *fan * (size_t)(n - 1 - i));
+            w->fan_n[v]--;
             return;
         }
 }
 
-static pp5_status_t fan_set(sw_t *w, int v, const int32_t *faces, int n)
+static pp5_status_t fan_set(sw_t *w, int v, const int32_t *corners, int n)
 {
     if (n > w->fan_cap[v]) {
         size_t cap = (size_t)n * 2;
@@ -308,7 +472,7 @@ static pp5_status_t fan_set(sw_t *w, int v, const int32_t *faces, int n)
         w->fan_cap[v] = (int32_t)cap;
         w->pool_n += cap;
     }
-    memcpy(w->pool + w->fan_off[v], faces, sizeof *faces * (size_t)n);
+    memcpy(w->pool + w->fan_off[v], corners, sizeof *corners * (size_t)n);
     w->fan_n[v] = n;
     return PP5_OK;
 }
@@ -350,38 +514,62 @@ static void record_steps(sw_t *w, const int32_t *S, int k, const double p[3],
     w->rec_id[S[0]] = cur;
 }
 
+/* The removed faces leave the fans of their other vertices (whose order
+ * stays rotational: the faces either side of a removed one become
+ * neighbours) and the queue. */
+static void remove_faces(sw_t *w, const int32_t *S, int k, const sw_merge_t *m)
+{
+    bool by_face = w->queue.n_ids == w->nf;
+    for (int r = 0; r < m->n_removed; r++) {
+        int f = m->removed[r];
+        w->face_alive[f] = 0;
+        w->faces_alive--;
+        if (w->queue.n_ids > 0 && by_face)
+            sw_queue_remove(&w->queue, f);
+        for (int c = 3 * f; c < 3 * f + 3; c++) {
+            if (w->queue.n_ids > 0 && !by_face)
+                sw_queue_remove(&w->queue, c);
+            int v = w->tri[c];
+            if (in_set(S, k, v) >= 0)
+                continue;
+            fan_remove(w, v, c);
+            if (w->fan_n[v] == 0) {   /* an ear's tip: no face left */
+                w->vert_alive[v] = 0;
+                w->verts_alive--;
+                w->fan_kind[v] = SW_FAN_BROKEN;
+            }
+        }
+    }
+}
+
 pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
                             const sw_merge_t *m)
 {
     if (w->recording)
         record_steps(w, S, k, p, m);
-    for (int r = 0; r < m->n_removed; r++) {
-        int f = m->removed[r];
-        w->face_alive[f] = 0;
-        w->faces_alive--;
-        for (int c = 0; c < 3; c++) {
-            int v = w->tri[3 * f + c];
-            if (in_set(S, k, v) < 0) {
-                fan_remove(w, v, f);
-                if (w->fan_n[v] == 0) {   /* an ear's tip: no face left */
-                    w->vert_alive[v] = 0;
-                    w->verts_alive--;
-                }
-            }
-        }
-    }
-    for (int i = 0; i < m->n_keep; i++) {
-        int32_t *t = w->tri + 3 * m->keep[i];
-        for (int c = 0; c < 3; c++)
-            if (in_set(S, k, t[c]) > 0)
-                t[c] = S[0];
-    }
+    remove_faces(w, S, k, m);
+    for (int i = 0; i < m->n_keep; i++)
+        w->tri[m->keep[i]] = S[0];
     pp5_status_t st = fan_set(w, S[0], m->keep, m->n_keep);
     if (st != PP5_OK)
         return st;
+    /* The new fan is the link's walk, counter-clockwise.  The fans that lost
+     * a face keep their order (the faces either side of it now share an edge
+     * to S[0]); a cycle's canonical start, its lowest corner, may have gone. */
+    w->fan_kind[S[0]] = m->boundary ? SW_FAN_PATH : SW_FAN_CYCLE;
+    restart_cycle(w, S[0]);
+    for (int r = 0; r < m->n_removed; r++)
+        for (int c = 3 * m->removed[r]; c < 3 * m->removed[r] + 3; c++)
+            if (in_set(S, k, w->tri[c]) < 0 && w->fan_n[w->tri[c]] > 0) {
+                if (w->fan_kind[w->tri[c]] == SW_FAN_BROKEN)
+                    order_fan(w, w->tri[c]);   /* a pinch may have gone with the face */
+                else
+                    restart_cycle(w, w->tri[c]);
+            }
     for (int i = 1; i < k; i++) {
         w->vert_alive[S[i]] = 0;
         w->fan_n[S[i]] = 0;
+        w->fan_kind[S[i]] = SW_FAN_BROKEN;
     }
     memcpy(w->pos + 3 * S[0], p, 3 * sizeof *p);
     w->verts_alive -= k - 1;
@@ -390,70 +578,6 @@ pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
         w->stats->merges++;
     sw_push_level(w);
     return PP5_OK;
-}
-
-/* ---- the candidate queue: a binary min-heap on (cost, a, b) ---- */
-
-static bool entry_less(const sw_entry_t *x, const sw_entry_t *y)
-{
-    if (x->cost != y->cost)
-        return x->cost < y->cost;
-    if (x->a != y->a)
-        return x->a < y->a;
-    return x->b < y->b;
-}
-
-pp5_status_t sw_heap_push(sw_heap_t *h, sw_entry_t e)
-{
-    if (!(e.cost == e.cost))
-        e.cost = INFINITY;   /* NaN costs sort last instead of breaking the order */
-    if (h->n == h->cap) {
-        size_t cap = h->cap ? 2 * h->cap : 4096;
-        sw_entry_t *ne = realloc(h->e, sizeof *ne * cap);
-        if (!ne)
-            return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for the queue");
-        h->e = ne;
-        h->cap = cap;
-    }
-    size_t i = h->n++;
-    while (i > 0) {
-        size_t up = (i - 1) / 2;
-        if (!entry_less(&e, &h->e[up]))
-            break;
-        h->e[i] = h->e[up];
-        i = up;
-    }
-    h->e[i] = e;
-    return PP5_OK;
-}
-
-bool sw_heap_pop(sw_heap_t *h, sw_entry_t *out)
-{
-    if (h->n == 0)
-        return false;
-    *out = h->e[0];
-    sw_entry_t last = h->e[--h->n];
-    size_t i = 0;
-    for (;;) {
-        size_t c = 2 * i + 1;
-        if (c >= h->n)
-            break;
-        if (c + 1 < h->n && entry_less(&h->e[c + 1], &h->e[c]))
-            c++;
-        if (!entry_less(&h->e[c], &last))
-            break;
-        h->e[i] = h->e[c];
-        i = c;
-    }
-    if (h->n)
-        h->e[i] = last;
-    return true;
-}
-
-void sw_heap_free(sw_heap_t *h)
-{
-    free(h->e);
-    memset(h, 0, sizeof *h);
 }
 
 pp5_status_t sw_to_mesh(const sw_t *w, mesh_t *out)
