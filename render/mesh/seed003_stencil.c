@@ -45,6 +45,11 @@ void s003_ring_table_fill(double *table)
 
 static void add(s003_stencil_t *s, int v, double w)
 {
+    if (s->distinct) {   /* the caller knows v is new */
+        if (s->n < S003_STENCIL_MAX)
+            s->v[s->n] = v, s->w[s->n] = w, s->n++;
+        return;
+    }
     for (int i = 0; i < s->n; i++)
         if (s->v[i] == v) {
             s->w[i] += w;
@@ -87,16 +92,19 @@ static bool ring_stencil(const s003_context_t *c, int v, int other, double scale
     } else {
         q = s003_ring_weights(K, w);
     }
+    s->distinct = s->n == 0;   /* a vertex and its ring: no repeats */
     add(s, v, q * scale);
     for (int j = 0; j < K; j++)
         add(s, ring[j], w[j] * scale);
+    s->distinct = false;
     return true;
 }
 
-static int valence(const s003_context_t *c, int v, int other)
+/* sw_ring's length without the ring: v's valence if it is interior (other,
+ * a neighbour of v, is always in its ring), else -1. */
+static int valence(const s003_context_t *c, int v)
 {
-    int32_t ring[SW_MAX_FAN];
-    return sw_ring(c->w, v, other, ring, SW_MAX_FAN);
+    return c->w->fan_kind[v] == SW_FAN_CYCLE ? c->w->fan_n[v] : -1;
 }
 
 /* The butterfly (case 1): a = 1/2, b = 1/8, c = -1/16, d = w = 0. */
@@ -176,9 +184,16 @@ static void feature_case(const s003_context_t *c, int a, int b, s003_stencil_t *
     s->which = S003_CASE_FEATURE;
 }
 
+static void stencil_clear(s003_stencil_t *s)
+{
+    s->n = 0;
+    s->which = 0;
+    s->distinct = false;
+}
+
 bool s003_stencil(const s003_context_t *c, int a, int b, s003_stencil_t *s)
 {
-    memset(s, 0, sizeof *s);
+    stencil_clear(s);
     int ia = c->importance[a], ib = c->importance[b];
     if (c->pin_corners && (c->corner[a] || c->corner[b])) {
         if (c->corner[a] && c->corner[b])
@@ -214,24 +229,24 @@ bool s003_stencil(const s003_context_t *c, int a, int b, s003_stencil_t *s)
         feature_case(c, a, b, s);
         return true;
     }
-    int ka = valence(c, a, b), kb = valence(c, b, a);
+    int ka = valence(c, a), kb = valence(c, b);
     if (ka == 6 && kb == 6 && butterfly(c, a, b, s)) {
         s->which = S003_CASE_REGULAR;
         return true;
     }
-    memset(s, 0, sizeof *s);
+    stencil_clear(s);
     if (ka >= 3 && kb >= 3 && (ka == 6) != (kb == 6)) {
         if (ring_stencil(c, ka != 6 ? a : b, ka != 6 ? b : a, 1.0, s)) {
             s->which = S003_CASE_ONE_IRREGULAR;
             return true;
         }
     }
-    memset(s, 0, sizeof *s);
+    stencil_clear(s);
     if (ka >= 3 && kb >= 3 && ring_stencil(c, a, b, 0.5, s) && ring_stencil(c, b, a, 0.5, s)) {
         s->which = ka != 6 && kb != 6 ? S003_CASE_TWO_IRREGULAR : S003_CASE_FALLBACK;
         return true;
     }
-    memset(s, 0, sizeof *s);
+    stencil_clear(s);
     add(s, a, 0.5), add(s, b, 0.5);
     s->which = S003_CASE_FALLBACK;
     return true;

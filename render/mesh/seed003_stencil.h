@@ -23,6 +23,7 @@ typedef struct {
     int32_t v[S003_STENCIL_MAX];
     double w[S003_STENCIL_MAX];
     s003_case_t which;
+    bool distinct;               /* internal: the next adds are new vertices */
 } s003_stencil_t;
 
 /* Everything the stencils need to know about a vertex. */

@@ -159,10 +159,13 @@ static bool control_function(s003_t *s, int a, int b, const double p[3], double 
     int32_t S[2] = {a, b};
     if (sw_test_merge(w, S, 2, p, m) != SW_OK)
         return false;
-    /* D: the largest turn, from the smallest cosine (acos falls monotonically) */
+    /* D: the largest turn, from the smallest cosine (acos falls monotonically);
+     * the test's dot products give cos_between(n_old, n_new) */
     double cmin = 1.0, smax = 0;
-    for (int i = 0; i < m->n_keep; i++)
-        cmin = sw_min(cmin, cos_between(m->n_old[i], m->n_new[i]));
+    for (int i = 0; i < m->n_keep; i++) {
+        double l = sqrt(m->turn_len2[i]), c = l > 0 ? m->turn_dot[i] / l : 1.0;
+        cmin = sw_min(cmin, c > 1 ? 1 : c < -1 ? -1 : c);
+    }
     double dmax = acos(cmin) / PI;
     const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
     double le = dist(pa, pb);
@@ -236,15 +239,14 @@ static void s003_forget(s003_t *s, int id)
     s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
 }
 
-/* Re-costs edge c (tri[c] -> tri[next c]) under its canonical id: now, or at
- * the thaw if it is frozen. */
-static pp5_status_t s003_queue_edge(s003_t *s, int c)
+/* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
+ * it is frozen; `twin`, the edge's other corner (or -1), leaves the queue. */
+static pp5_status_t s003_queue(s003_t *s, int id, int twin)
 {
     sw_t *w = s->w;
-    int a = w->tri[c], b = w->tri[sw_next(c)];
-    int id = sw_edge_id(w, a, b), twin = id == c ? sw_find_corner(w, b, a) : c;
-    if (twin >= 0 && twin != id)
+    if (twin >= 0)
         s003_forget(s, twin);
+    int a = w->tri[id], b = w->tri[sw_next(id)];
     if (a > b) {
         int t = a;
         a = b, b = t;
@@ -270,7 +272,36 @@ static pp5_status_t queue_all_edges(s003_t *s)
         if (!w->face_alive[c / 3])
             continue;
         if (w->tri[c] < w->tri[sw_next(c)] || sw_corner_on_boundary(w, c))
-            st = s003_queue_edge(s, c);
+            st = s003_queue(s, c, -1);   /* canonical already; nothing queued yet */
+    }
+    return st;
+}
+
+/* Re-costs the edges at x; an edge between two marked vertices goes from
+ * its smaller end only.  In x's fan (counter-clockwise) corner i is the edge
+ * x -> r_i and the corner before it holds the twin r_i -> x. */
+static pp5_status_t s003_requeue_at(s003_t *s, int x)
+{
+    sw_t *w = s->w;
+    const int32_t *fan = sw_fan(w, x);
+    int n = w->fan_n[x];
+    uint8_t kind = w->fan_kind[x];
+    pp5_status_t st = PP5_OK;
+    for (int i = 0; i < n && st == PP5_OK; i++) {
+        int out = fan[i], y = w->tri[sw_next(out)], in;
+        if (kind == SW_FAN_BROKEN)
+            in = sw_find_corner(w, y, x);
+        else
+            in = i > 0 ? sw_prev(fan[i - 1]) : kind == SW_FAN_CYCLE ? sw_prev(fan[n - 1]) : -1;
+        if (!(s->mark[y] == s->mark_epoch && y < x && in >= 0)) {
+            int id = x < y || in < 0 ? out : in;
+            st = s003_queue(s, id, id == out ? in : out);
+        }
+        /* a boundary edge into x from outside the set is no out-edge of the set */
+        int pc = sw_prev(out);
+        if (st == PP5_OK && kind != SW_FAN_CYCLE && s->mark[w->tri[pc]] != s->mark_epoch &&
+            sw_corner_on_boundary(w, pc))
+            st = s003_queue(s, pc, -1);
     }
     return st;
 }
@@ -297,21 +328,8 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
             s->frozen[set[i]] = s->epoch;
     }
     pp5_status_t st = PP5_OK;
-    for (int i = 0; i < n && st == PP5_OK; i++) {
-        int x = set[i];
-        const int32_t *fan = sw_fan(w, x);
-        for (int j = 0; j < w->fan_n[x] && st == PP5_OK; j++) {
-            int c = fan[j], y = w->tri[sw_next(c)], pc = sw_prev(c);
-            /* x -> y once: from the smaller end when both ends are in the set */
-            bool twin = !sw_corner_on_boundary(w, c);
-            if (!(s->mark[y] == s->mark_epoch && y < x && twin))
-                st = s003_queue_edge(s, c);
-            /* a boundary edge into x from outside the set is no out-edge of the set */
-            if (st == PP5_OK && s->mark[w->tri[pc]] != s->mark_epoch &&
-                sw_corner_on_boundary(w, pc))
-                st = s003_queue_edge(s, pc);
-        }
-    }
+    for (int i = 0; i < n && st == PP5_OK; i++)
+        st = s003_requeue_at(s, set[i]);
     return st;
 }
 

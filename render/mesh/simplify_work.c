@@ -19,10 +19,11 @@ static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
     w->fan_n = calloc(nv, sizeof *w->fan_n);
     w->fan_cap = malloc(sizeof *w->fan_cap * nv);
     w->rec_id = malloc(sizeof *w->rec_id * nv);
+    w->fnormal = malloc(sizeof *w->fnormal * 3 * nf);
     w->pool_cap = 3 * nf + 2 * nv + 64;
     w->pool = malloc(sizeof *w->pool * w->pool_cap);
     if (!w->pos || !w->tri || !w->face_alive || !w->vert_alive || !w->fan_kind ||
-        !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool)
+        !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool || !w->fnormal)
         return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for %d vertices", w->nv);
     pp5_status_t st = sw_queue_init(&w->queue, queue_ids);
     if (st != PP5_OK || !w->recording)
@@ -166,6 +167,8 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
         int v = w->tri[c];
         w->pool[w->fan_off[v] + w->fan_n[v]++] = c;
     }
+    for (int f = 0; f < w->nf; f++)
+        sw_face_normal(w, f, w->fnormal + 3 * f);
     w->manifold = true;
     for (int v = 0; v < w->nv; v++)
         w->manifold &= order_fan(w, v);
@@ -185,6 +188,7 @@ void sw_free(sw_t *w)
 {
     free(w->pos), free(w->tri), free(w->face_alive), free(w->vert_alive), free(w->fan_kind);
     free(w->fan_off), free(w->fan_n), free(w->fan_cap), free(w->pool), free(w->rec_id);
+    free(w->fnormal);
     free(w->r_pos), free(w->r_parent), free(w->r_death), free(w->r_face_death);
     free(w->r_level_step), free(w->r_level_faces), free(w->r_level_vertices);
     sw_queue_free(&w->queue);
@@ -413,30 +417,90 @@ static sw_verdict_t check_link(sw_merge_t *m, const int32_t *src, const int32_t 
     return SW_OK;
 }
 
+/* The same verdict, faces and link as gather_faces + check_link for an edge
+ * a-b inside the mesh (both fans cycles), read off the fans: a's faces after
+ * (a, b, o1) round to (a, o2, b) give the link path o1 .. o2, b's faces after
+ * (b, a, o2) round to (b, o1, a) the path o2 .. o1, and the link is one cycle
+ * unless the two paths share an inner vertex.  -1: the shortcut does not
+ * apply (a boundary, a tiny fan); the general test decides. */
+static int edge_link_fast(const sw_t *w, int a, int b, sw_merge_t *m)
+{
+    int na = w->fan_n[a], nb = w->fan_n[b];
+    if (w->fan_kind[a] != SW_FAN_CYCLE || w->fan_kind[b] != SW_FAN_CYCLE || na < 3 || nb < 3)
+        return -1;
+    const int32_t *fa = sw_fan(w, a), *fb = sw_fan(w, b);
+    int ib = -1, ia = -1;
+    for (int i = 0; i < na && ib < 0; i++)
+        if (w->tri[sw_next(fa[i])] == b)
+            ib = i;
+    for (int i = 0; i < nb && ia < 0; i++)
+        if (w->tri[sw_next(fb[i])] == a)
+            ia = i;
+    if (ib < 0 || ia < 0 || w->tri[sw_prev(fa[ib])] == w->tri[sw_prev(fb[ia])])
+        return -1;
+    /* inner vertices of the two paths: r_a[ib+2 .. ib-2], r_b[ia+2 .. ia-2] */
+    for (int i = 2; i <= na - 2; i++) {
+        int x = w->tri[sw_next(fa[(ib + i) % na])];
+        for (int j = 2; j <= nb - 2; j++)
+            if (w->tri[sw_next(fb[(ia + j) % nb])] == x)
+                return SW_TOPOLOGY;
+    }
+    int n = na + nb - 4;
+    if (n < 3)
+        return SW_TOPOLOGY;
+    /* walk order from a's first kept face in its fan order, as check_link walks */
+    int first = 0;   /* a's lowest fan index whose face stays */
+    while (first == ib || first == (ib + na - 1) % na)
+        first++;
+    int lead = (first - ib - 1 + na) % na;   /* a's kept faces before `first` in the cycle */
+    int32_t seq[SW_MAX_FAN];
+    int q = 0;
+    for (int i = 1; i <= na - 2; i++)
+        seq[q++] = fa[(ib + i) % na];
+    for (int i = 1; i <= nb - 2; i++)
+        seq[q++] = fb[(ia + i) % nb];
+    for (int i = 0; i < n; i++) {
+        m->keep[i] = seq[(i + lead) % n];
+        m->ring[i] = w->tri[sw_next(m->keep[i])];
+    }
+    m->n_keep = m->n_ring = n;
+    m->n_removed = 2;
+    m->removed[0] = fa[ib] / 3, m->removed[1] = fb[ia] / 3;
+    m->boundary = false;
+    return SW_OK;
+}
+
 sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double p[3],
                            sw_merge_t *m)
 {
-    int32_t src[SW_MAX_FAN], dst[SW_MAX_FAN];
-    sw_verdict_t v = gather_faces(w, S, k, m, src, dst);
-    if (v == SW_OK)
-        v = check_link(m, src, dst);
+    int fast = k == 2 && w->fan_n[S[0]] + w->fan_n[S[1]] - 4 <= SW_MAX_FAN
+                   ? edge_link_fast(w, S[0], S[1], m) : -1;
+    sw_verdict_t v = (sw_verdict_t)fast;
+    if (fast < 0) {
+        int32_t src[SW_MAX_FAN], dst[SW_MAX_FAN];
+        v = gather_faces(w, S, k, m, src, dst);
+        if (v == SW_OK)
+            v = check_link(m, src, dst);
+    }
     if (v != SW_OK)
         return v;
     for (int i = 0; i < m->n_keep; i++) {
-        int c = m->keep[i], f = c / 3;
-        const double *q[3];
-        for (int j = 0; j < 3; j++)
-            q[j] = w->pos + 3 * w->tri[3 * f + j];
-        q[c % 3] = p;   /* the one corner of the face in S moves to p */
-        sw_face_normal(w, f, m->n_old[i]);
-        double u[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
-        double t[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
+        int c = m->keep[i], f = c / 3, at = c - 3 * f;
+        const int32_t *tv = w->tri + 3 * f;
+        /* the one corner of the face in S moves to p */
+        const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
+        const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
+        const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
+        const double *n_old = w->fnormal + 3 * f;
+        double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
+        double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
         sw_cross(u, t, m->n_new[i]);
-        double lo = sw_dot(m->n_old[i], m->n_old[i]), ln = sw_dot(m->n_new[i], m->n_new[i]);
+        double lo = sw_dot(n_old, n_old), ln = sw_dot(m->n_new[i], m->n_new[i]);
         /* a new face of (almost) no area has no orientation left to keep */
         if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
             return SW_FOLD;
-        double d = sw_dot(m->n_old[i], m->n_new[i]);
+        double d = sw_dot(n_old, m->n_new[i]);
+        m->turn_dot[i] = d, m->turn_len2[i] = lo * ln;
         if (lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)))
             return SW_FOLD;
     }
@@ -572,6 +636,8 @@ pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
         w->fan_kind[S[i]] = SW_FAN_BROKEN;
     }
     memcpy(w->pos + 3 * S[0], p, 3 * sizeof *p);
+    for (int i = 0; i < m->n_keep; i++)   /* the faces that moved */
+        memcpy(w->fnormal + 3 * (m->keep[i] / 3), m->n_new[i], 3 * sizeof *p);
     w->verts_alive -= k - 1;
     w->step += k - 1;
     if (w->stats)

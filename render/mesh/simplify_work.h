@@ -65,12 +65,15 @@ static inline uint64_t sw_edge_tie(int a, int b)
 }
 
 /* What a merge test found: the surviving faces (as their corner at the
- * merged set, in fan order, with their normals before and after) and the
+ * merged set, in fan order, with their normals after the merge) and the
  * removed ones. */
 typedef struct {
     int n_keep, n_removed;
     int32_t keep[SW_MAX_FAN], removed[SW_MAX_FAN];
-    double n_old[SW_MAX_FAN][3], n_new[SW_MAX_FAN][3];
+    double n_new[SW_MAX_FAN][3];
+    /* n_old . n_new and |n_old|^2 |n_new|^2 per kept face (n_old: its normal
+     * before): the cosine of its turn is turn_dot / sqrt(turn_len2) */
+    double turn_dot[SW_MAX_FAN], turn_len2[SW_MAX_FAN];
     int n_ring;
     int32_t ring[SW_MAX_FAN + 1]; /* the link vertices (the new vertex's neighbours), in order */
     bool boundary;                /* the new vertex lies on a boundary */
@@ -89,6 +92,7 @@ typedef struct {
     size_t pool_n, pool_cap;
     int32_t *rec_id;                     /* vertex slot -> record vertex id */
     bool manifold;                       /* no edge direction twice at any vertex (input) */
+    double *fnormal;                     /* per face: sw_face_normal, kept current */
     double fold_cos_min;
     sw_queue_t queue;
     /* the record being built */
