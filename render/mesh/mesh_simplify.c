@@ -11,7 +11,10 @@ void mesh_simplify_defaults(mesh_simplify_opts_t *o, mesh_method_t method)
     memset(o, 0, sizeof *o);
     o->method = method;
     o->fold_cos_min = 0.0;
-    o->qem_boundary_weight = 1000.0;
+    /* GH97's unit planes with CGAL's default discontinuity multiplier (100):
+     * ARCHITECTURE.md has the weights tried on the bunny */
+    o->qem_boundary_weight = 100.0;
+    o->qem_area_weighted = false;
     o->s001_cost = SEED001_COST_EQ8;
     /* seed 003: the paper gives no values (§2.1, §2.3); ARCHITECTURE.md says
      * why these, and `pp5 reproduce meshes` sweeps them. */

@@ -36,6 +36,7 @@ typedef struct {
     double fold_cos_min;
     /* qem */
     double qem_boundary_weight; /* weight of the planes that hold boundary edges */
+    bool qem_area_weighted;     /* face planes weighted by area (default: unit planes) */
     /* seed 001 */
     seed001_cost_t s001_cost;
     /* seed 003 (§2.1, §2.3: the paper gives no values; ARCHITECTURE.md) */

@@ -1,11 +1,14 @@
 /* simplify_qem.c: Garland & Heckbert 1997 quadric edge collapse, the baseline.
  *
- * Each vertex carries the sum of the area-weighted plane quadrics of its
- * faces; boundary edges add a plane through the edge perpendicular to its
- * face, weighted by qem_boundary_weight x length^2, which holds boundaries in
- * place (GH97 §6).  The new point minimises the summed quadric when that
- * 3x3 system is well conditioned, else the best of the endpoints and the
- * midpoint.  Edges are re-costed around the new vertex only (GH97 §4). */
+ * Each vertex carries the sum of the plane quadrics of its faces (unit
+ * planes, as GH97 §5 and CGAL's GarlandHeckbert_plane_policies; area-weighted
+ * planes, Garland's later variant, with qem_area_weighted).  Boundary edges
+ * add a plane through the edge perpendicular to its face, weighted by
+ * qem_boundary_weight (x the edge's length squared when the faces are
+ * area-weighted), which holds boundaries in place (GH97 §6).  The new point
+ * (GH97 §4) minimises the summed quadric when that 3x3 system is well
+ * conditioned, else along the edge, else it is the best of the endpoints and
+ * the midpoint.  Edges are re-costed around the new vertex only. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +71,24 @@ static double qem_place(const qem_t *s, int a, int b, double p[3])
     const double *pa = s->w->pos + 3 * a, *pb = s->w->pos + 3 * b;
     if (quadric_optimum(&Q, p))
         return fmax(quadric_eval(&Q, p), 0.0);
+    {   /* the best point of the edge: Q(pa + t d) is a parabola in t */
+        const double *q = Q.q;
+        double d[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+        double Ad[3] = {q[0] * d[0] + q[1] * d[1] + q[2] * d[2], q[1] * d[0] + q[4] * d[1] + q[5] * d[2],
+                        q[2] * d[0] + q[5] * d[1] + q[7] * d[2]};
+        double qa = sw_dot(d, Ad);
+        double g[3] = {q[0] * pa[0] + q[1] * pa[1] + q[2] * pa[2] + q[3],
+                       q[1] * pa[0] + q[4] * pa[1] + q[5] * pa[2] + q[6],
+                       q[2] * pa[0] + q[5] * pa[1] + q[7] * pa[2] + q[8]};
+        double qb = sw_dot(d, g);
+        if (qa > 1e-12 * (fabs(q[0]) + fabs(q[4]) + fabs(q[7])) * sw_dot(d, d)) {
+            double t = -qb / qa;
+            t = t < 0 ? 0 : t > 1 ? 1 : t;
+            for (int k = 0; k < 3; k++)
+                p[k] = pa[k] + t * d[k];
+            return fmax(quadric_eval(&Q, p), 0.0);
+        }
+    }
     double cand[3][3] = {{pa[0], pa[1], pa[2]}, {pb[0], pb[1], pb[2]},
                          {0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])}};
     double best = INFINITY;
@@ -81,7 +102,7 @@ static double qem_place(const qem_t *s, int a, int b, double p[3])
     return fmax(best, 0.0);
 }
 
-static void qem_init_quadrics(qem_t *s, double boundary_weight)
+static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weighted)
 {
     sw_t *w = s->w;
     for (int f = 0; f < w->nf; f++) {
@@ -92,7 +113,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight)
             continue;
         double u[3] = {n[0] / len, n[1] / len, n[2] / len};
         const double *p0 = w->pos + 3 * w->tri[3 * f];
-        double d = -sw_dot(u, p0), area = 0.5 * len;
+        double d = -sw_dot(u, p0), area = area_weighted ? 0.5 * len : 1.0;
         for (int c = 0; c < 3; c++)
             quadric_add_plane(&s->Q[w->tri[3 * f + c]], u, d, area);
         for (int c = 3 * f; c < 3 * f + 3; c++) {
@@ -107,7 +128,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight)
                 continue;
             for (int k = 0; k < 3; k++)
                 m[k] /= ml;
-            double wgt = boundary_weight * sw_dot(e, e);
+            double wgt = boundary_weight * (area_weighted ? sw_dot(e, e) : 1.0);
             quadric_add_plane(&s->Q[a], m, -sw_dot(m, pa), wgt);
             quadric_add_plane(&s->Q[b], m, -sw_dot(m, pa), wgt);
         }
@@ -161,7 +182,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
     qem_t s = {w, calloc((size_t)w->nv + 1, sizeof(quadric_t))};
     if (!s.Q)
         return pp5_fail(PP5_E_NOMEM, "qem: out of memory for quadrics");
-    qem_init_quadrics(&s, o->qem_boundary_weight);
+    qem_init_quadrics(&s, o->qem_boundary_weight, o->qem_area_weighted);
     for (int c = 0; c < 3 * w->nf; c++) {   /* each edge once, under its canonical id */
         int a = w->tri[c], b = w->tri[sw_next(c)];
         if (a < b || sw_corner_on_boundary(w, c)) {
