@@ -13,6 +13,7 @@
 #include "render/mesh/mesh_gen.h"
 #include "render/mesh/mesh_hausdorff.h"
 #include "render/mesh/mesh_info.h"
+#include "render/mesh/mesh_raster.h"
 #include "render/mesh/mesh_simplify.h"
 
 static void usage(void)
@@ -21,7 +22,9 @@ static void usage(void)
            "       pp5 mesh simplify MESH --method seed001|seed003|qem (--ratio R | --faces N)\n"
            "                         --out OUT [--levels FILE]\n"
            "       pp5 mesh extract FILE (--ratio R | --faces N) --out OUT\n"
-           "       pp5 mesh error A B [--bound B] [--samples N]\n\n"
+           "       pp5 mesh error A B [--bound B] [--samples N]\n"
+           "       pp5 mesh render MESH --out OUT.png [--size WxH] [--yaw D] [--pitch D]\n"
+           "                       [--gouraud] [--ortho]\n\n"
            "info:     counts, boundary loops, manifoldness, orientation, genus.\n"
            "simplify: simplifies to at most N faces (or R x the input's faces) and writes\n"
            "          the result; --levels also writes the collapse record (every level).\n"
@@ -33,6 +36,10 @@ static void usage(void)
            "          bounding-box diagonal (Metro convention); the maxima carry a guaranteed\n"
            "          error bound (--bound, x the diagonal, default 1e-5); the means use\n"
            "          --samples area-uniform samples per direction (default 200000).\n"
+           "render:   the mesh shaded (flat, or --gouraud) under one light through the\n"
+           "          z-buffered rasteriser, seen from --yaw degrees about the vertical\n"
+           "          (default 0: from +z) and --pitch degrees above (default 20),\n"
+           "          perspective or --ortho; --size in pixels (default 512x512).\n"
            "MESH: .obj, .off, .ply (ASCII or binary), each optionally .gz, or a generated\n"
            "mesh: gen:sphere (20x20 UV sphere, 760 faces), gen:torus, gen:grid, gen:cube.\n"
            "OUT: .obj, .off or .ply (binary).\n\n"
@@ -42,7 +49,8 @@ static void usage(void)
            "      --out cow50.obj --levels cow.pmr\n"
            "  pp5 mesh extract cow.pmr --faces 1000 --out cow1000.off\n"
            "  pp5 mesh error ../shared/data/meshes/cow_tri.obj cow50.obj\n"
-           "  pp5 mesh simplify gen:sphere --method seed003 --faces 188 --out s188.obj\n");
+           "  pp5 mesh simplify gen:sphere --method seed003 --faces 188 --out s188.obj\n"
+           "  pp5 mesh render cow1000.off --out cow1000.png --yaw 60 --size 640x480\n");
 }
 
 /* Loads FILE or a generated mesh named gen:NAME. */
@@ -100,6 +108,9 @@ static int cmd_info(int argc, char **argv)
     printf("bounds:      [%g %g %g] .. [%g %g %g], diagonal %g\n", lo[0], lo[1], lo[2], hi[0],
            hi[1], hi[2], mesh_diagonal(&m));
     printf("area:        %g\n", mesh_area(&m));
+    double vol = mesh_signed_volume(&m);
+    printf("volume:      %g (signed; faces %s)\n", vol,
+           vol < 0 ? "point inward: clockwise seen from outside" : "counter-clockwise outside");
     mesh_free(&m);
     return 0;
 }
@@ -110,6 +121,9 @@ typedef struct {
     long faces;
     double bound;
     long samples;
+    int width, height;           /* render */
+    double yaw, pitch;
+    bool gouraud, ortho, help;
 } mesh_cli_opts_t;
 
 static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
@@ -118,10 +132,14 @@ static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
         {"method", required_argument, NULL, 'm'}, {"ratio", required_argument, NULL, 'r'},
         {"faces", required_argument, NULL, 'f'},  {"out", required_argument, NULL, 'o'},
         {"levels", required_argument, NULL, 'l'}, {"bound", required_argument, NULL, 'b'},
-        {"samples", required_argument, NULL, 's'}, {NULL, 0, NULL, 0},
+        {"samples", required_argument, NULL, 's'}, {"size", required_argument, NULL, 'z'},
+        {"yaw", required_argument, NULL, 'y'},    {"pitch", required_argument, NULL, 'p'},
+        {"gouraud", no_argument, NULL, 'g'},      {"ortho", no_argument, NULL, 't'},
+        {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0},
     };
     memset(o, 0, sizeof *o);
     o->ratio = -1, o->faces = -1, o->bound = 1e-5, o->samples = 200000;
+    o->width = o->height = 512, o->pitch = 20;
     int c;
     optind = 1;
     pp5_status_t st = PP5_OK;
@@ -134,6 +152,12 @@ static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
         case 'l': o->levels = optarg; break;
         case 'b': st = cliopt_double("--bound", optarg, 1e-9, 1.0, &o->bound); break;
         case 's': st = cliopt_long("--samples", optarg, 0, 100000000, &o->samples); break;
+        case 'z': st = cliopt_size2("--size", optarg, 16, 8192, &o->width, &o->height); break;
+        case 'y': st = cliopt_double("--yaw", optarg, -3600, 3600, &o->yaw); break;
+        case 'p': st = cliopt_double("--pitch", optarg, -90, 90, &o->pitch); break;
+        case 'g': o->gouraud = true; break;
+        case 't': o->ortho = true; break;
+        case 'h': o->help = true; break;
         default: st = pp5_fail(PP5_E_CONFIG, "unknown option (see pp5 mesh --help)");
         }
     }
@@ -269,8 +293,48 @@ static int cmd_error(int argc, char **argv)
     return st == PP5_OK ? 0 : cliopt_report("mesh error", st);
 }
 
+static int cmd_render(int argc, char **argv)
+{
+    mesh_cli_opts_t o;
+    pp5_status_t st = parse_opts(argc, argv, &o);
+    if (st == PP5_OK && (optind != argc - 1 || !o.out))
+        st = pp5_fail(PP5_E_CONFIG, "usage: pp5 mesh render MESH --out OUT.png");
+    if (st != PP5_OK)
+        return cliopt_report("mesh render", st);
+    mesh_t m;
+    st = mesh_cli_load(argv[optind], &m);
+    if (st != PP5_OK)
+        return cliopt_report("mesh render", st);
+    mesh_raster_t r;
+    st = mesh_raster_init(&r, o.width, o.height);
+    if (st == PP5_OK) {
+        raster_viewport_t vp = {0, 0, o.width, o.height};
+        static const uint8_t bg[3] = {255, 255, 255};
+        raster_camera_t cam;
+        raster_style_t style;
+        raster_camera_fit(&m, o.yaw, o.pitch, (double)o.width / o.height, !o.ortho, &cam);
+        raster_style_default(&style, o.gouraud ? RASTER_GOURAUD : RASTER_FLAT);
+        raster_style_orient(&style, &m);
+        mesh_raster_clear(&r, &vp, bg);
+        st = mesh_raster_draw(&r, &vp, &m, &cam, &style);
+        if (st == PP5_OK)
+            st = png_write(o.out, &r.image);
+        if (st == PP5_OK)
+            printf("%s: %d faces, %s shading, %dx%d pixels -> %s\n", m.source, m.n_faces,
+                   o.gouraud ? "Gouraud" : "flat", o.width, o.height, o.out);
+        mesh_raster_free(&r);
+    }
+    mesh_free(&m);
+    return st == PP5_OK ? 0 : cliopt_report("mesh render", st);
+}
+
 static int cmd_mesh(int argc, char **argv)
 {
+    for (int i = 2; i < argc; i++)   /* pp5 mesh SUB --help */
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage();
+            return 0;
+        }
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage();
         return argc < 2 ? 2 : 0;
@@ -283,9 +347,11 @@ static int cmd_mesh(int argc, char **argv)
         return cmd_extract(argc - 1, argv + 1);
     if (strcmp(argv[1], "error") == 0)
         return cmd_error(argc - 1, argv + 1);
+    if (strcmp(argv[1], "render") == 0)
+        return cmd_render(argc - 1, argv + 1);
     fprintf(stderr, "pp5 mesh: unknown subcommand '%s' (see pp5 mesh --help)\n", argv[1]);
     return 2;
 }
 
-PP5_COMMAND(mesh, "mesh info, simplification (seeds 001/003, QEM) and Hausdorff error",
+PP5_COMMAND(mesh, "mesh info, simplification (seeds 001/003, QEM), Hausdorff error, rendering",
             cmd_mesh)

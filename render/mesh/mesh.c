@@ -138,3 +138,15 @@ double mesh_area(const mesh_t *m)
     }
     return a;
 }
+
+double mesh_signed_volume(const mesh_t *m)
+{
+    double v = 0;
+    for (int f = 0; f < m->n_faces; f++) {
+        const double *a = m->pos + 3 * m->tri[3 * f], *b = m->pos + 3 * m->tri[3 * f + 1],
+                     *c = m->pos + 3 * m->tri[3 * f + 2];
+        v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+             a[2] * (b[0] * c[1] - b[1] * c[0]);
+    }
+    return v / 6;
+}

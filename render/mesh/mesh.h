@@ -41,6 +41,9 @@ double mesh_diagonal(const mesh_t *m);
 pp5_status_t mesh_drop_unused(mesh_t *m, int *dropped);
 /* Total surface area. */
 double mesh_area(const mesh_t *m);
+/* The volume the faces enclose, positive when they are counter-clockwise
+ * seen from outside (for an open mesh: of the cone sum from the origin). */
+double mesh_signed_volume(const mesh_t *m);
 /* Unnormalised face normal (cross product of two edges, length = 2 x area). */
 void mesh_face_normal(const mesh_t *m, int f, double n[3]);
 
