@@ -347,3 +347,101 @@ TEST(mesh_seed003_stencil_weights_sum_to_one_in_every_case)
     for (int k = S003_CASE_REGULAR; k <= S003_CASE_PINNED; k++)
         CHECK_MSG(seen[k] > 0, "stencil case %d never met", k);
 }
+
+/* The merge test's verdict for edge a-b against a check written from the
+ * definition: the faces holding exactly one of a, b keep their far edge;
+ * those edges must form one simple cycle of >= 3 edges or one simple path. */
+static bool naive_link_ok(const mesh_t *m, int a, int b, int *n_link)
+{
+    int src[512], dst[512], n = 0;
+    for (int f = 0; f < m->n_faces && n < 512; f++) {
+        const int32_t *t = m->tri + 3 * f;
+        int ka = -1, kb = -1;
+        for (int c = 0; c < 3; c++)
+            ka = t[c] == a ? c : ka, kb = t[c] == b ? c : kb;
+        if ((ka < 0) == (kb < 0))
+            continue;
+        int k = ka >= 0 ? ka : kb;
+        src[n] = t[(k + 1) % 3], dst[n] = t[(k + 2) % 3], n++;
+    }
+    *n_link = n;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (src[i] == src[j] || dst[i] == dst[j])
+                return false;
+    int start = -1, starts = 0;
+    for (int i = 0; i < n; i++) {
+        bool has_pred = false;
+        for (int j = 0; j < n; j++)
+            has_pred |= dst[j] == src[i];
+        if (!has_pred)
+            starts++, start = i;
+    }
+    if (starts > 1 || (starts == 0 && n < 3))
+        return false;
+    int at = starts ? start : 0, walked = 1;
+    for (;;) {
+        int nx = -1;
+        for (int j = 0; j < n; j++)
+            if (src[j] == dst[at])
+                nx = j;
+        if (nx < 0 || nx == (starts ? -1 : 0))
+            break;
+        at = nx, walked++;
+        if (walked > n)
+            return false;
+    }
+    return walked == n;
+}
+
+/* Returns how many edges the link condition refuses. */
+static int check_merge_tests(const mesh_t *m, const char *name)
+{
+    sw_t w;
+    mesh_simplify_stats_t st;
+    REQUIRE(sw_init(&w, m, false, 0, &st) == PP5_OK);
+    int disagree = 0, tested = 0, refused = 0;
+    for (int c = 0; c < 3 * m->n_faces; c++) {
+        int a = m->tri[c], b = m->tri[c % 3 == 2 ? c - 2 : c + 1];
+        if (a > b && sw_find_corner(&w, b, a) >= 0)
+            continue;   /* each interior edge once */
+        double p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = 0.5 * (m->pos[3 * a + k] + m->pos[3 * b + k]);
+        int32_t S[2] = {a, b};
+        sw_merge_t mt;
+        int n_link;
+        bool ok = naive_link_ok(m, a, b, &n_link);
+        sw_verdict_t v = sw_test_merge(&w, S, 2, p, &mt);
+        tested++;
+        refused += !ok;
+        if (ok != (v != SW_TOPOLOGY) || (ok && mt.n_keep != n_link))
+            disagree++;
+    }
+    CHECK_MSG(disagree == 0, "%s: %d of %d edges judged differently", name, disagree, tested);
+    CHECK(tested > m->n_faces);   /* about 1.5 per face */
+    sw_free(&w);
+    return refused;
+}
+
+TEST(mesh_merge_test_agrees_with_the_link_condition_written_out)
+{
+    mesh_t t, s, g, small;
+    REQUIRE(mesh_gen_torus(24, 12, 1.0, 0.35, &t) == PP5_OK);
+    REQUIRE(mesh_gen_uv_sphere(20, 20, 1.0, &s) == PP5_OK);
+    REQUIRE(mesh_gen_grid(10, 10, 1.0, 1.0, &g) == PP5_OK);
+    /* irregular valences and pinch-prone spots: simplified meshes */
+    REQUIRE(run(&t, MESH_QEM, 120, &small, NULL) == PP5_OK);
+    check_merge_tests(&t, "torus");
+    check_merge_tests(&s, "sphere");
+    check_merge_tests(&g, "grid");
+    int refused = check_merge_tests(&small, "torus at 120 faces");
+    mesh_free(&small);
+    REQUIRE(run(&s, MESH_SEED001, 60, &small, NULL) == PP5_OK);
+    refused += check_merge_tests(&small, "sphere at 60 faces");
+    CHECK_MSG(refused > 0, "no refused edge: the test saw only easy cases");
+    mesh_free(&small);
+    mesh_free(&t);
+    mesh_free(&s);
+    mesh_free(&g);
+}
