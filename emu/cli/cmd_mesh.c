@@ -213,8 +213,8 @@ static int cmd_simplify(int argc, char **argv)
         printf("%s: %d faces, %d vertices -> %d faces, %d vertices with %s in %.1f ms "
                "(CPU %.1f ms; %d merges%s; refused: %ld topology, %ld fold-over)\n", in.source,
                in.n_faces, in.n_vertices, out.n_faces, out.n_vertices, mesh_method_name(method),
-               stats.ms, stats.cpu_ms, stats.merges, o.levels ? " to the floor" : "", stats.refused_topology,
-               stats.refused_fold);
+               stats.ms, stats.cpu_ms, stats.merges, o.levels ? " to the floor" : "",
+               stats.refused_topology, stats.refused_fold);
         if (out.n_faces > so.target_faces)
             printf("  stopped at the topology floor: no allowed merge left above %d faces\n",
                    so.target_faces);

@@ -282,7 +282,8 @@ static void ablations(const mesh_t *sphere)
         char name[64];
         mesh_simplify_defaults(&o, MESH_SEED003);
         o.s003_switch_fraction = sw[i];
-        snprintf(name, sizeof name, "switch at %.0f %%%s", 100 * sw[i], sw[i] == 0 ? " (never)" : "");
+        snprintf(name, sizeof name, "switch at %.0f %%%s", 100 * sw[i],
+                 sw[i] == 0 ? " (never)" : "");
         ablation_row(name, sphere, &o);
     }
     static const double cd1[2] = {0.2, 5.0};

@@ -133,7 +133,7 @@ static int feature_neighbour(const s003_context_t *c, int v, int skip)
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
         for (int k = 0; k < 2; k++) {
-            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            int x = (k ? w->prevv : w->nextv)[fan[i]];
             if (x == skip || x == found)
                 continue;
             if (s003_feature_edge(c, v, x)) {
@@ -153,12 +153,12 @@ static int boundary_neighbour(const sw_t *w, int v, int skip)
     const int32_t *fan = sw_fan(w, v);
     int n = w->fan_n[v];
     if (w->fan_kind[v] == SW_FAN_PATH) {   /* the path's two ends */
-        int first = w->tri[sw_next(fan[0])], last = w->tri[sw_prev(fan[n - 1])];
+        int first = w->nextv[fan[0]], last = w->prevv[fan[n - 1]];
         return first != skip ? first : last != skip ? last : -1;
     }
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 2; k++) {
-            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            int x = (k ? w->prevv : w->nextv)[fan[i]];
             if (x != skip && sw_edge_faces(w, v, x) == 1)
                 return x;
         }

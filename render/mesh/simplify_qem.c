@@ -74,7 +74,8 @@ static double qem_place(const qem_t *s, int a, int b, double p[3])
     {   /* the best point of the edge: Q(pa + t d) is a parabola in t */
         const double *q = Q.q;
         double d[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-        double Ad[3] = {q[0] * d[0] + q[1] * d[1] + q[2] * d[2], q[1] * d[0] + q[4] * d[1] + q[5] * d[2],
+        double Ad[3] = {q[0] * d[0] + q[1] * d[1] + q[2] * d[2],
+                        q[1] * d[0] + q[4] * d[1] + q[5] * d[2],
                         q[2] * d[0] + q[5] * d[1] + q[7] * d[2]};
         double qa = sw_dot(d, Ad);
         double g[3] = {q[0] * pa[0] + q[1] * pa[1] + q[2] * pa[2] + q[3],
@@ -119,7 +120,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
         for (int c = 3 * f; c < 3 * f + 3; c++) {
             if (!sw_corner_on_boundary(w, c))
                 continue;
-            int a = w->tri[c], b = w->tri[sw_next(c)];
+            int a = w->tri[c], b = w->nextv[c];
             const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
             double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]}, m[3];
             sw_cross(e, u, m);
@@ -139,7 +140,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
 static void qem_queue(qem_t *s, int id)
 {
     sw_t *w = s->w;
-    int a = w->tri[id], b = w->tri[sw_next(id)];
+    int a = w->tri[id], b = w->nextv[id];
     double p[3];
     sw_queue_set(&w->queue, id, qem_place(s, a < b ? a : b, a < b ? b : a, p),
                  sw_edge_tie(a, b));
@@ -157,7 +158,7 @@ static void qem_requeue_at(qem_t *s, int v)
     bool cycle = w->fan_kind[v] == SW_FAN_CYCLE;
     if (w->fan_kind[v] == SW_FAN_BROKEN) {   /* cannot happen after a merge; be safe */
         for (int i = 0; i < n; i++) {
-            int c = fan[i], x = w->tri[sw_next(c)], id = sw_edge_id(w, v, x);
+            int c = fan[i], x = w->nextv[c], id = sw_edge_id(w, v, x);
             int twin = id == c ? sw_find_corner(w, x, v) : c;
             if (twin >= 0 && twin != id)
                 sw_queue_remove(&w->queue, twin);
@@ -166,7 +167,7 @@ static void qem_requeue_at(qem_t *s, int v)
         return;
     }
     for (int i = 0; i < n; i++) {
-        int out = fan[i], x = w->tri[sw_next(out)];
+        int out = fan[i], x = w->nextv[out];
         int in = i > 0 ? sw_prev(fan[i - 1]) : cycle ? sw_prev(fan[n - 1]) : -1;
         int id = v < x || in < 0 ? out : in;
         if (in >= 0)
@@ -184,7 +185,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
         return pp5_fail(PP5_E_NOMEM, "qem: out of memory for quadrics");
     qem_init_quadrics(&s, o->qem_boundary_weight, o->qem_area_weighted);
     for (int c = 0; c < 3 * w->nf; c++) {   /* each edge once, under its canonical id */
-        int a = w->tri[c], b = w->tri[sw_next(c)];
+        int a = w->tri[c], b = w->nextv[c];
         if (a < b || sw_corner_on_boundary(w, c)) {
             double p[3];
             sw_queue_append(&w->queue, c, qem_place(&s, a < b ? a : b, a < b ? b : a, p),
@@ -196,7 +197,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
     sw_qentry_t e;
     sw_merge_t m;
     while (st == PP5_OK && w->faces_alive > o->target_faces && sw_queue_pop(&w->queue, &e)) {
-        int a = w->tri[e.id], b = w->tri[sw_next(e.id)];
+        int a = w->tri[e.id], b = w->nextv[e.id];
         if (a > b) {
             int t = a;
             a = b, b = t;

@@ -78,7 +78,7 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
             /* vertex-neighbour (one shared vertex, t[j]) or edge-neighbour (two):
              * the face's other corners name the second one, if any; an
              * edge-neighbour is in two of the fans and counts from the first */
-            int y = w->tri[sw_next(c)], z = w->tri[sw_prev(c)];
+            int y = w->nextv[c], z = w->prevv[c];
             int second = t_hi == y || t_hi == z ? hi : t_lo == y || t_lo == z ? lo : -1;
             if (second >= 0 && second < j)
                 continue;

@@ -62,13 +62,13 @@ static bool boundary_ends(const sw_t *w, int v, int nb[2])
     const int32_t *fan = sw_fan(w, v);
     int n = 0;
     if (w->fan_kind[v] == SW_FAN_PATH) {
-        nb[0] = w->tri[sw_next(fan[0])];
-        nb[1] = w->tri[sw_prev(fan[w->fan_n[v] - 1])];
+        nb[0] = w->nextv[fan[0]];
+        nb[1] = w->prevv[fan[w->fan_n[v] - 1]];
         return true;
     }
     for (int i = 0; i < w->fan_n[v] && n < 2; i++)
         for (int k = 0; k < 2 && n < 2; k++) {
-            int x = w->tri[k ? sw_prev(fan[i]) : sw_next(fan[i])];
+            int x = (k ? w->prevv : w->nextv)[fan[i]];
             if ((n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1)
                 nb[n++] = x;
         }
@@ -246,7 +246,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     sw_t *w = s->w;
     if (twin >= 0)
         s003_forget(s, twin);
-    int a = w->tri[id], b = w->tri[sw_next(id)];
+    int a = w->tri[id], b = w->nextv[id];
     if (a > b) {
         int t = a;
         a = b, b = t;
@@ -271,7 +271,7 @@ static pp5_status_t queue_all_edges(s003_t *s)
     for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
         if (!w->face_alive[c / 3])
             continue;
-        if (w->tri[c] < w->tri[sw_next(c)] || sw_corner_on_boundary(w, c))
+        if (w->tri[c] < w->nextv[c] || sw_corner_on_boundary(w, c))
             st = s003_queue(s, c, -1);   /* canonical already; nothing queued yet */
     }
     return st;
@@ -288,7 +288,7 @@ static pp5_status_t s003_requeue_at(s003_t *s, int x)
     uint8_t kind = w->fan_kind[x];
     pp5_status_t st = PP5_OK;
     for (int i = 0; i < n && st == PP5_OK; i++) {
-        int out = fan[i], y = w->tri[sw_next(out)], in;
+        int out = fan[i], y = w->nextv[out], in;
         if (kind == SW_FAN_BROKEN)
             in = sw_find_corner(w, y, x);
         else
@@ -346,7 +346,7 @@ static void s003_thaw(s003_t *s)
         if (state == S003_DEFERRED) {
             sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
-            int a = w->tri[id], b = w->tri[sw_next(id)];
+            int a = w->tri[id], b = w->nextv[id];
             double p[3], F;
             sw_merge_t m;
             if (s003_evaluate(s, a < b ? a : b, a < b ? b : a, p, &F, &m))
@@ -375,7 +375,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
 static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
 {
     sw_t *w = s->w;
-    int a = w->tri[e->id], b = w->tri[sw_next(e->id)];
+    int a = w->tri[e->id], b = w->nextv[e->id];
     if (a > b) {
         int t = a;
         a = b, b = t;
@@ -426,7 +426,7 @@ static double mean_edge_length(const sw_t *w)
     double total = 0;
     long edges = 0;
     for (int c = 0; c < 3 * w->nf; c++) {
-        total += dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->tri[sw_next(c)]);
+        total += dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
         edges++;
     }
     return edges && total > 0 ? total / (double)edges : 1.0;

@@ -12,6 +12,8 @@ static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
     size_t nv = (size_t)w->nv + 1, nf = (size_t)w->nf + 1;
     w->pos = malloc(sizeof *w->pos * 3 * nv);
     w->tri = malloc(sizeof *w->tri * 3 * nf);
+    w->nextv = malloc(sizeof *w->nextv * 3 * nf);
+    w->prevv = malloc(sizeof *w->prevv * 3 * nf);
     w->face_alive = malloc(nf);
     w->vert_alive = calloc(nv, 1);
     w->fan_kind = calloc(nv, 1);
@@ -22,8 +24,9 @@ static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
     w->fnormal = malloc(sizeof *w->fnormal * 3 * nf);
     w->pool_cap = 3 * nf + 2 * nv + 64;
     w->pool = malloc(sizeof *w->pool * w->pool_cap);
-    if (!w->pos || !w->tri || !w->face_alive || !w->vert_alive || !w->fan_kind ||
-        !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool || !w->fnormal)
+    if (!w->pos || !w->tri || !w->nextv || !w->prevv || !w->face_alive || !w->vert_alive ||
+        !w->fan_kind || !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool ||
+        !w->fnormal)
         return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for %d vertices", w->nv);
     pp5_status_t st = sw_queue_init(&w->queue, queue_ids);
     if (st != PP5_OK || !w->recording)
@@ -73,8 +76,8 @@ static bool order_fan(sw_t *w, int v)
     int start = -1, starts = 0, lowest = 0;
     bool unique = true;
     for (int i = 0; i < n; i++) {
-        nxt[i] = w->tri[sw_next(fan[i])];
-        prv[i] = w->tri[sw_prev(fan[i])];
+        nxt[i] = w->nextv[fan[i]];
+        prv[i] = w->prevv[fan[i]];
         if (fan[i] < fan[lowest])
             lowest = i;
     }
@@ -148,6 +151,8 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
     }
     memcpy(w->pos, in->pos, sizeof *w->pos * 3 * (size_t)w->nv);
     memcpy(w->tri, in->tri, sizeof *w->tri * 3 * (size_t)w->nf);
+    for (int c = 0; c < 3 * w->nf; c++)
+        w->nextv[c] = w->tri[sw_next(c)], w->prevv[c] = w->tri[sw_prev(c)];
     memset(w->face_alive, 1, (size_t)w->nf);
     w->faces_alive = w->input_faces = w->nf;
     for (int c = 0; c < 3 * w->nf; c++)
@@ -186,7 +191,8 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
 
 void sw_free(sw_t *w)
 {
-    free(w->pos), free(w->tri), free(w->face_alive), free(w->vert_alive), free(w->fan_kind);
+    free(w->pos), free(w->tri), free(w->nextv), free(w->prevv);
+    free(w->face_alive), free(w->vert_alive), free(w->fan_kind);
     free(w->fan_off), free(w->fan_n), free(w->fan_cap), free(w->pool), free(w->rec_id);
     free(w->fnormal);
     free(w->r_pos), free(w->r_parent), free(w->r_death), free(w->r_face_death);
@@ -202,11 +208,11 @@ pp5_status_t sw_check_edge_manifold(const sw_t *w, const char *source)
     if (w->manifold)
         return PP5_OK;
     for (int c = 0; c < 3 * w->nf; c++) {
-        int a = w->tri[c], b = w->tri[sw_next(c)];
+        int a = w->tri[c], b = w->nextv[c];
         int same = 0, faces = sw_edge_faces(w, a, b);
         const int32_t *fan = sw_fan(w, a);
         for (int i = 0; i < w->fan_n[a]; i++)
-            same += w->tri[sw_next(fan[i])] == b;
+            same += w->nextv[fan[i]] == b;
         if (a < b && faces > 2)
             return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d has %d faces (the simplifiers need an "
                             "edge-manifold mesh)", source, a + 1, b + 1, faces);
@@ -231,7 +237,7 @@ int sw_edge_faces(const sw_t *w, int a, int b)
     int n = 0;
     const int32_t *fan = sw_fan(w, a);
     for (int i = 0; i < w->fan_n[a]; i++)
-        n += w->tri[sw_next(fan[i])] == b || w->tri[sw_prev(fan[i])] == b;
+        n += w->nextv[fan[i]] == b || w->prevv[fan[i]] == b;
     return n;
 }
 
@@ -239,7 +245,7 @@ int sw_find_corner(const sw_t *w, int a, int b)
 {
     const int32_t *fan = sw_fan(w, a);
     for (int i = 0; i < w->fan_n[a]; i++)
-        if (w->tri[sw_next(fan[i])] == b)
+        if (w->nextv[fan[i]] == b)
             return fan[i];
     return -1;
 }
@@ -251,7 +257,7 @@ bool sw_corner_on_boundary(const sw_t *w, int c)
         return false;
     if (w->fan_kind[v] == SW_FAN_PATH)
         return sw_fan(w, v)[0] == c;
-    return sw_find_corner(w, w->tri[sw_next(c)], v) < 0;
+    return sw_find_corner(w, w->nextv[c], v) < 0;
 }
 
 bool sw_vertex_on_boundary(const sw_t *w, int v)
@@ -280,12 +286,12 @@ int sw_ring(const sw_t *w, int v, int first, int32_t *ring, int cap)
     const int32_t *fan = sw_fan(w, v);
     int at = -1;
     for (int i = 0; i < n && at < 0; i++)
-        if (w->tri[sw_next(fan[i])] == first)
+        if (w->nextv[fan[i]] == first)
             at = i;
     if (at < 0)
         return -1;
-    for (int j = 0; j < n; j++)
-        ring[j] = w->tri[sw_next(fan[(at + j) % n])];
+    for (int j = 0, i = at; j < n; j++, i = i + 1 < n ? i + 1 : 0)
+        ring[j] = w->nextv[fan[i]];
     return n;
 }
 
@@ -306,7 +312,7 @@ static sw_verdict_t gather_faces(const sw_t *w, const int32_t *S, int k, sw_merg
         const int32_t *fan = sw_fan(w, S[i]);
         for (int j = 0; j < w->fan_n[S[i]]; j++) {
             int c = fan[j], cn = sw_next(c), cp = sw_prev(c);
-            bool yn = in_set(S, k, w->tri[cn]) >= 0, yp = in_set(S, k, w->tri[cp]) >= 0;
+            bool yn = in_set(S, k, w->nextv[c]) >= 0, yp = in_set(S, k, w->prevv[c]) >= 0;
             if (yn || yp) {
                 /* a face shared by several of S is seen once, from the member
                  * at its lowest corner */
@@ -324,8 +330,8 @@ static sw_verdict_t gather_faces(const sw_t *w, const int32_t *S, int k, sw_merg
             }
             if (m->n_keep == SW_MAX_FAN)
                 return SW_TOPOLOGY;
-            src[m->n_keep] = w->tri[cn];
-            dst[m->n_keep] = w->tri[cp];
+            src[m->n_keep] = w->nextv[c];
+            dst[m->n_keep] = w->prevv[c];
             m->keep[m->n_keep++] = c;
         }
     }
@@ -431,20 +437,25 @@ static int edge_link_fast(const sw_t *w, int a, int b, sw_merge_t *m)
     const int32_t *fa = sw_fan(w, a), *fb = sw_fan(w, b);
     int ib = -1, ia = -1;
     for (int i = 0; i < na && ib < 0; i++)
-        if (w->tri[sw_next(fa[i])] == b)
+        if (w->nextv[fa[i]] == b)
             ib = i;
     for (int i = 0; i < nb && ia < 0; i++)
-        if (w->tri[sw_next(fb[i])] == a)
+        if (w->nextv[fb[i]] == a)
             ia = i;
-    if (ib < 0 || ia < 0 || w->tri[sw_prev(fa[ib])] == w->tri[sw_prev(fb[ia])])
+    if (ib < 0 || ia < 0 || w->prevv[fa[ib]] == w->prevv[fb[ia]])
         return -1;
-    /* inner vertices of the two paths: r_a[ib+2 .. ib-2], r_b[ia+2 .. ia-2] */
-    for (int i = 2; i <= na - 2; i++) {
-        int x = w->tri[sw_next(fa[(ib + i) % na])];
+    /* the two fans from the corner after the removed face: corners a_1 ..
+     * a_(na-2) and b_1 .. b_(nb-2) stay, and their ring vertices r_1 ..
+     * r_(n-1) run o1 .. o2 and o2 .. o1 */
+    int32_t ca[SW_MAX_FAN], cb[SW_MAX_FAN], ra[SW_MAX_FAN], rb[SW_MAX_FAN];
+    for (int i = 0, k = ib; i < na; i++, k = k + 1 < na ? k + 1 : 0)
+        ca[i] = fa[k], ra[i] = w->nextv[fa[k]];
+    for (int i = 0, k = ia; i < nb; i++, k = k + 1 < nb ? k + 1 : 0)
+        cb[i] = fb[k], rb[i] = w->nextv[fb[k]];
+    for (int i = 2; i <= na - 2; i++)   /* inner vertices must differ */
         for (int j = 2; j <= nb - 2; j++)
-            if (w->tri[sw_next(fb[(ia + j) % nb])] == x)
+            if (ra[i] == rb[j])
                 return SW_TOPOLOGY;
-    }
     int n = na + nb - 4;
     if (n < 3)
         return SW_TOPOLOGY;
@@ -452,16 +463,16 @@ static int edge_link_fast(const sw_t *w, int a, int b, sw_merge_t *m)
     int first = 0;   /* a's lowest fan index whose face stays */
     while (first == ib || first == (ib + na - 1) % na)
         first++;
-    int lead = (first - ib - 1 + na) % na;   /* a's kept faces before `first` in the cycle */
+    int lead = first > ib ? first - ib - 1 : first + na - ib - 1;
     int32_t seq[SW_MAX_FAN];
     int q = 0;
     for (int i = 1; i <= na - 2; i++)
-        seq[q++] = fa[(ib + i) % na];
+        seq[q++] = ca[i];
     for (int i = 1; i <= nb - 2; i++)
-        seq[q++] = fb[(ia + i) % nb];
-    for (int i = 0; i < n; i++) {
-        m->keep[i] = seq[(i + lead) % n];
-        m->ring[i] = w->tri[sw_next(m->keep[i])];
+        seq[q++] = cb[i];
+    for (int i = 0, k = lead; i < n; i++, k = k + 1 < n ? k + 1 : 0) {
+        m->keep[i] = seq[k];
+        m->ring[i] = w->nextv[seq[k]];
     }
     m->n_keep = m->n_ring = n;
     m->n_removed = 2;
@@ -612,8 +623,11 @@ pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
     if (w->recording)
         record_steps(w, S, k, p, m);
     remove_faces(w, S, k, m);
-    for (int i = 0; i < m->n_keep; i++)
-        w->tri[m->keep[i]] = S[0];
+    for (int i = 0; i < m->n_keep; i++) {
+        int c = m->keep[i];
+        w->tri[c] = S[0];
+        w->nextv[sw_prev(c)] = S[0], w->prevv[sw_next(c)] = S[0];
+    }
     pp5_status_t st = fan_set(w, S[0], m->keep, m->n_keep);
     if (st != PP5_OK)
         return st;

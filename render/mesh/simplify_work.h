@@ -6,7 +6,8 @@
  * Layout (render/mesh/ARCHITECTURE.md, "Speed"): corner c = 3 f + k is vertex
  * tri[c] of face f; the face is (tri[c], tri[sw_next(c)], tri[sw_prev(c)])
  * counter-clockwise, and corner c also names the directed edge
- * tri[c] -> tri[sw_next(c)].  Each vertex keeps the corners at it in
+ * tri[c] -> tri[sw_next(c)]; nextv and prevv keep the other two vertices of
+ * every corner at hand (no index arithmetic, one load).  Each vertex keeps the corners at it in
  * counter-clockwise order (a cycle inside, a path starting at the boundary
  * on the boundary), so its ring, valence and the third vertex of any of its
  * faces are read off in O(valence) without searching faces.  The queue holds
@@ -85,6 +86,7 @@ typedef struct {
     int nv, nf, faces_alive, input_faces;
     double *pos;
     int32_t *tri;
+    int32_t *nextv, *prevv;              /* per corner: tri[sw_next(c)], tri[sw_prev(c)] */
     uint8_t *face_alive, *vert_alive;
     uint8_t *fan_kind;                   /* SW_FAN_* per vertex */
     int32_t *fan_off, *fan_n, *fan_cap;  /* per vertex: corners in pool[off .. off+n) */
