@@ -35,6 +35,8 @@ typedef struct {
      * evaluated once, when they thaw (nothing they depend on can change
      * before then without re-costing them again) */
     uint8_t *dstate;
+    uint8_t *dirty;               /* queued under a lower bound, not yet costed */
+    bool lazy;                    /* all weights >= 0: the lower bound holds */
     double *dcost;
     uint64_t *dtie;
     int32_t *dlist;
@@ -150,6 +152,32 @@ static double dist(const double *a, const double *b)
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+/* The roundness of face (a, b, o): L_e / L_max (§2.3). */
+static double roundness(const double *pa, const double *pb, const double *po, double le)
+{
+    double lmax = fmax(dist(pa, po), dist(pb, po));
+    return lmax > 0 ? le / lmax : 0;
+}
+
+/* F without its D term, Cs S + Cl L: neither depends on the new point, D
+ * is >= 0, and rounding is monotone, so this is <= the F that
+ * control_function computes (its sum is (Cd D + Cs S) + Cl L, in that
+ * order).  Queued under it, an edge is costed only when it reaches the top
+ * of the queue, and the order of deletions is the same as costing at once. */
+static double lower_bound(const s003_t *s, int a, int b)
+{
+    const sw_t *w = s->w;
+    const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
+    double le = dist(pa, pb), smax = 0;
+    int c1 = sw_find_corner(w, a, b), c2 = sw_find_corner(w, b, a);
+    if (c1 >= 0)
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c1], le));
+    if (c2 >= 0)
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c2], le));
+    int ph = s->phase;
+    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * le / s->mean_edge;
+}
+
 /* F(e) at new point p, or false if the merge is not allowed there (m: the
  * merge test, reused by the deletion itself). */
 static bool control_function(s003_t *s, int a, int b, const double p[3], double *F,
@@ -172,9 +200,7 @@ static bool control_function(s003_t *s, int a, int b, const double p[3], double 
     for (int i = 0; i < m->n_removed; i++) {
         const int32_t *t = w->tri + 3 * m->removed[i];
         int o = t[0] != a && t[0] != b ? t[0] : t[1] != a && t[1] != b ? t[1] : t[2];
-        const double *po = w->pos + 3 * o;
-        double lmax = fmax(dist(pa, po), dist(pb, po));
-        smax = fmax(smax, lmax > 0 ? le / lmax : 0);   /* Roundness = L_e / L_max */
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * o, le));
     }
     int ph = s->phase;
     *F = s->o->s003_cd[ph] * dmax + s->o->s003_cs[ph] * smax +
@@ -237,6 +263,25 @@ static void s003_forget(s003_t *s, int id)
 {
     sw_queue_remove(&s->w->queue, id);
     s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
+    s->dirty[id] = 0;
+}
+
+/* Queues live edge id (a < b) under its cost, or under the lower bound. */
+static void s003_cost(s003_t *s, int id, int a, int b, bool now)
+{
+    sw_t *w = s->w;
+    if (!now && s->lazy) {
+        sw_queue_set(&w->queue, id, lower_bound(s, a, b), sw_edge_tie(a, b));
+        s->dirty[id] = 1;
+        return;
+    }
+    double p[3], F;
+    sw_merge_t m;
+    s->dirty[id] = 0;
+    if (s003_evaluate(s, a, b, p, &F, &m))
+        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+    else
+        sw_queue_remove(&w->queue, id);
 }
 
 /* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
@@ -255,12 +300,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
         sw_queue_remove(&w->queue, id);
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
-    double p[3], F;
-    sw_merge_t m;
-    if (s003_evaluate(s, a, b, p, &F, &m))
-        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
-    else
-        sw_queue_remove(&w->queue, id);
+    s003_cost(s, id, a, b, false);
     return PP5_OK;
 }
 
@@ -347,10 +387,7 @@ static void s003_thaw(s003_t *s)
             sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
-            double p[3], F;
-            sw_merge_t m;
-            if (s003_evaluate(s, a < b ? a : b, a < b ? b : a, p, &F, &m))
-                sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+            s003_cost(s, id, a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
@@ -382,7 +419,11 @@ static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
     }
     if (s003_frozen(s, a, b)) {
         s->dcost[e->id] = e->cost, s->dtie[e->id] = e->tie;
-        return s003_defer(s, e->id, S003_DEFERRED);
+        return s003_defer(s, e->id, s->dirty[e->id] ? S003_DEFERRED_DIRTY : S003_DEFERRED);
+    }
+    if (s->dirty[e->id]) {   /* its key was a lower bound: cost it and queue it again */
+        s003_cost(s, e->id, a, b, true);
+        return PP5_OK;
     }
     double p[3], F;
     sw_merge_t m;
@@ -394,7 +435,7 @@ static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
     pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
     for (int r = 0; r < m.n_removed; r++)
         for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
-            s->dstate[c] = S003_LIVE;
+            s->dstate[c] = S003_LIVE, s->dirty[c] = 0;
     return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
 }
 
@@ -438,17 +479,19 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (!s)
         return pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->w = w, s->o = o, s->epoch = 1;
+    s->lazy = o->s003_cd[0] >= 0 && o->s003_cd[1] >= 0;
     size_t nv = (size_t)w->nv + 1, nc = 3 * (size_t)w->nf + 1;
     s->importance = calloc(nv, 1);
     s->corner = calloc(nv, 1);
     s->frozen = calloc(nv, sizeof *s->frozen);
     s->mark = calloc(nv, sizeof *s->mark);
     s->dstate = calloc(nc, 1);
+    s->dirty = calloc(nc, 1);
     s->dcost = malloc(sizeof *s->dcost * nc);
     s->dtie = malloc(sizeof *s->dtie * nc);
     pp5_status_t st = PP5_OK;
-    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dcost ||
-        !s->dtie)
+    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dirty ||
+        !s->dcost || !s->dtie)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->mean_edge = mean_edge_length(w);
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
@@ -462,7 +505,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (st == PP5_OK)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
-    free(s->dstate), free(s->dcost), free(s->dtie), free(s->dlist);
+    free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dlist);
     free(s);
     return st;
 }
