@@ -107,22 +107,33 @@ static void classify_vertex(s003_t *s, int v)
     }
     for (int i = 0; i < n; i++)
         sw_face_normal(w, faces[i], nr[i]);
-    double a1 = 0;
+    /* acos falls monotonically (glibc's is correctly rounded), so angles
+     * compare through their cosines; acos is taken only where a cosine could
+     * tie (the same angles, and the same first widest pair, as comparing
+     * every angle) */
+    double a1 = 0, c1 = 1.0;
     int bi = 0, bj = 0;
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++) {
-            double t = angle_between(nr[i], nr[j]);
+            double c = cos_between(nr[i], nr[j]);
+            if (c > c1)
+                continue;   /* acos(c) <= a1: not wider */
+            double t = acos(c);
             if (t > a1)
-                a1 = t, bi = i, bj = j;
+                a1 = t, c1 = c, bi = i, bj = j;
         }
     int group[SW_MAX_FAN];
-    for (int i = 0; i < n; i++)
-        group[i] = angle_between(nr[i], nr[bj]) < angle_between(nr[i], nr[bi]);
-    double a2 = 0;
+    for (int i = 0; i < n; i++) {
+        double cj = cos_between(nr[i], nr[bj]), ci = cos_between(nr[i], nr[bi]);
+        /* |d acos / dc| >= 1: cosines this far apart order their angles */
+        group[i] = cj - ci > 1e-12 ? 1 : ci - cj > 1e-12 ? 0 : acos(cj) < acos(ci);
+    }
+    double c2 = 1.0;   /* a2 = acos of the smallest cosine within a group */
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++)
             if (group[i] == group[j])
-                a2 = fmax(a2, angle_between(nr[i], nr[j]));
+                c2 = sw_min(c2, cos_between(nr[i], nr[j]));
+    double a2 = acos(c2);
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
     int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
     s->corner[v] = imp == 2;
