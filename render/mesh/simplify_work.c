@@ -72,36 +72,50 @@ static bool order_fan(sw_t *w, int v)
         w->fan_kind[v] = SW_FAN_BROKEN;
         return true;
     }
-    int32_t nxt[SW_MAX_FAN], prv[SW_MAX_FAN], ordered[SW_MAX_FAN];
-    int start = -1, starts = 0, lowest = 0;
-    bool unique = true;
+    /* corners sorted by their next vertex; the successor of corner j is the
+     * one whose next vertex is j's previous vertex (a binary search) */
+    int32_t nxt[SW_MAX_FAN], by_next[SW_MAX_FAN], succ[SW_MAX_FAN], ordered[SW_MAX_FAN];
+    bool has_pred[SW_MAX_FAN];
+    int lowest = 0;
     for (int i = 0; i < n; i++) {
         nxt[i] = w->nextv[fan[i]];
-        prv[i] = w->prevv[fan[i]];
+        has_pred[i] = false;
         if (fan[i] < fan[lowest])
             lowest = i;
+        int j = i;
+        for (; j > 0 && nxt[by_next[j - 1]] > nxt[i]; j--)
+            by_next[j] = by_next[j - 1];
+        by_next[j] = i;
     }
-    for (int i = 0; i < n; i++) {
-        bool has_pred = false;
-        for (int j = 0; j < n; j++) {
-            has_pred |= prv[j] == nxt[i];
-            unique &= j <= i || nxt[j] != nxt[i];
+    bool unique = true;
+    for (int i = 1; i < n; i++)
+        unique &= nxt[by_next[i - 1]] != nxt[by_next[i]];
+    for (int j = 0; j < n; j++) {
+        int z = w->prevv[fan[j]], lo = 0, hi = n;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (nxt[by_next[mid]] < z)
+                lo = mid + 1;
+            else
+                hi = mid;
         }
-        if (!has_pred && starts++ == 0)
-            start = i;
+        succ[j] = lo < n && nxt[by_next[lo]] == z ? by_next[lo] : -1;
+        if (succ[j] >= 0)
+            has_pred[succ[j]] = true;
     }
+    int start = -1, starts = 0;
+    for (int i = 0; i < n; i++)
+        if (!has_pred[i] && starts++ == 0)
+            start = i;
     int got = 0;
     if (n > 0 && starts <= 1 && unique) {
         int at = starts ? start : lowest;
         ordered[got++] = fan[at];
         while (got <= n) {
-            int succ = -1;
-            for (int j = 0; j < n; j++)
-                if (nxt[j] == prv[at])
-                    succ = j;
-            if (succ < 0 || fan[succ] == ordered[0])
+            at = succ[at];
+            if (at < 0 || fan[at] == ordered[0])
                 break;
-            ordered[got++] = fan[at = succ];
+            ordered[got++] = fan[at];
         }
     }
     if (n > 0 && got == n) {
