@@ -16,7 +16,7 @@
 typedef struct {
     double bound_rel;     /* wanted error bound on each maximum, x A's diagonal (1e-5) */
     long mean_samples;    /* area-uniform samples per direction (default 200,000) */
-    long max_cells;       /* refinement budget per direction (default 300,000); when it
+    long max_cells;       /* refinement budget per direction (default 4,000,000); when it
                              runs out, bound_* says how far the maximum may still be */
 } mesh_distance_opts_t;
 
