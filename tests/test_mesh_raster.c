@@ -111,6 +111,25 @@ TEST(mesh_raster_nearer_surface_wins_in_either_draw_order)
     mesh_raster_free(&b);
 }
 
+/* m drawn into a fresh 8 x 8 image (ortho: world [0,8]^2), ambient 0.2,
+ * diffuse 0.8, the given light and colours. */
+static void draw8(const mesh_t *m, raster_shading_t shading, const double light[3],
+                  const uint8_t front[3], const uint8_t back[3], mesh_raster_t *r)
+{
+    REQUIRE(mesh_raster_init(r, 8, 8) == PP5_OK);
+    raster_viewport_t vp = {0, 0, 8, 8};
+    raster_camera_t cam;
+    raster_style_t st;
+    raster_camera_ortho(0, 8, 0, 8, 0.5, 10, &cam);
+    raster_style_default(&st, shading);
+    memcpy(st.light_dir, light, sizeof st.light_dir);
+    st.ambient = 0.2, st.diffuse = 0.8;
+    memcpy(st.front_rgb, front, 3);
+    memcpy(st.back_rgb, back, 3);
+    mesh_raster_clear(r, &vp, WHITE);
+    REQUIRE(mesh_raster_draw(r, &vp, m, &cam, &st) == PP5_OK);
+}
+
 /* One pixel of a square facing +z (toward the camera), lit from `light`. */
 static void lit_square(const double light[3], bool turned, raster_shading_t shading,
                        uint8_t out[3])
@@ -125,18 +144,8 @@ static void lit_square(const double light[3], bool turned, raster_shading_t shad
     mesh_t m;
     tri_mesh(&m, sq, 2);
     mesh_raster_t r;
-    REQUIRE(mesh_raster_init(&r, 8, 8) == PP5_OK);
-    raster_viewport_t vp = {0, 0, 8, 8};
-    raster_camera_t cam;
-    raster_style_t st;
-    raster_camera_ortho(0, 8, 0, 8, 0.5, 10, &cam);
-    raster_style_default(&st, shading);
-    memcpy(st.light_dir, light, sizeof st.light_dir);
-    st.ambient = 0.2, st.diffuse = 0.8;
-    st.front_rgb[0] = 200, st.front_rgb[1] = 100, st.front_rgb[2] = 50;
-    st.back_rgb[0] = 100, st.back_rgb[1] = 60, st.back_rgb[2] = 20;
-    mesh_raster_clear(&r, &vp, WHITE);
-    REQUIRE(mesh_raster_draw(&r, &vp, &m, &cam, &st) == PP5_OK);
+    static const uint8_t front[3] = {200, 100, 50}, back[3] = {100, 60, 20};
+    draw8(&m, shading, light, front, back, &r);
     memcpy(out, r.image.pixels + 3 * (3 * 8 + 5), 3);
     mesh_raster_free(&r);
     mesh_free(&m);
@@ -177,19 +186,11 @@ TEST(mesh_raster_gouraud_varies_across_a_crease_and_flat_does_not)
     memcpy(roof.pos, p, sizeof p);
     memcpy(roof.tri, t, sizeof t);
     double I[2][8];
+    static const double head_on[3] = {0, 0, 1};
+    static const uint8_t grey[3] = {250, 250, 250};
     for (int s = 0; s < 2; s++) {
         mesh_raster_t r;
-        REQUIRE(mesh_raster_init(&r, 8, 8) == PP5_OK);
-        raster_viewport_t vp = {0, 0, 8, 8};
-        raster_camera_t cam;
-        raster_style_t st;
-        raster_camera_ortho(0, 8, 0, 8, 0.5, 10, &cam);
-        raster_style_default(&st, s ? RASTER_GOURAUD : RASTER_FLAT);
-        st.light_dir[0] = st.light_dir[1] = 0, st.light_dir[2] = 1;
-        st.ambient = 0.2, st.diffuse = 0.8;
-        st.front_rgb[0] = st.front_rgb[1] = st.front_rgb[2] = 250;
-        mesh_raster_clear(&r, &vp, WHITE);
-        REQUIRE(mesh_raster_draw(&r, &vp, &roof, &cam, &st) == PP5_OK);
+        draw8(&roof, s ? RASTER_GOURAUD : RASTER_FLAT, head_on, grey, grey, &r);
         for (int x = 0; x < 8; x++)
             I[s][x] = r.image.pixels[3 * (4 * 8 + x)] / 250.0;
         mesh_raster_free(&r);
