@@ -36,7 +36,7 @@ typedef struct {
      * before then without re-costing them again) */
     uint8_t *dstate;
     uint8_t *dirty;               /* queued under a lower bound, not yet costed */
-    bool lazy;                    /* all weights >= 0: the lower bound holds */
+    bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
     double *dcost;
     uint64_t *dtie;
     int32_t *dlist;
