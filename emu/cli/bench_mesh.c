@@ -253,7 +253,8 @@ static void bench_ratio(const mesh_t *in, double ratio, int reps, const mesh_pee
                : "EXCEEDS", rows[0].h_cgal, gh->h_cgal, rows[0].h_ours, gh->h_ours);
 }
 
-/* Level extraction from the collapse record, per 10,000 faces of the level. */
+/* Level extraction from the collapse record, per 10,000 faces of the level
+ * (thread CPU time, the minimum of 50: a level takes microseconds). */
 static void bench_extract(const mesh_t *in)
 {
     mesh_simplify_opts_t so;
@@ -264,19 +265,20 @@ static void bench_extract(const mesh_t *in)
     static const double fr[3] = {0.5, 0.1, 0.01};
     for (int i = 0; i < 3; i++) {
         int level = mesh_record_level_for_faces(&rec, (int)(fr[i] * in->n_faces));
-        double best = INFINITY;
+        double best = INFINITY, best_wall = INFINITY;
         int faces = 0;
-        for (int rep = 0; rep < 20; rep++) {
+        for (int rep = 0; rep < 50; rep++) {
             mesh_t m;
-            double t0 = now_ms(CLOCK_MONOTONIC);
+            double c0 = now_ms(CLOCK_THREAD_CPUTIME_ID), t0 = now_ms(CLOCK_MONOTONIC);
             if (mesh_record_extract(&rec, level, &m) != PP5_OK)
                 break;
-            best = fmin(best, now_ms(CLOCK_MONOTONIC) - t0);
+            best = fmin(best, now_ms(CLOCK_THREAD_CPUTIME_ID) - c0);
+            best_wall = fmin(best_wall, now_ms(CLOCK_MONOTONIC) - t0);
             faces = m.n_faces;
             mesh_free(&m);
         }
-        printf("   extract level with %6d faces: %.3f ms = %.3f ms per 10,000 faces "
-               "(goal < 1 ms)\n", faces, best, best * 1e4 / faces);
+        printf("   extract level with %6d faces: CPU %.3f ms (wall %.3f) = %.3f ms per 10,000 "
+               "faces (goal < 1 ms)\n", faces, best, best_wall, best * 1e4 / faces);
     }
     mesh_record_free(&rec);
 }
