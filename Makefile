@@ -14,7 +14,7 @@
 #   make soak       long replay and live-recording runs, peak memory (not in CI)
 #
 # The program is every .c file in the folders that LIB_SRC, FW_SRC and CLI_SRC
-# list below (emu/, emu/util/, emu/cli/, render/, tracker/, firmware/host/ and
+# list below (emu/, emu/util/, emu/cli/, render/, render/mesh/, tracker/, firmware/host/ and
 # the firmware programs in firmware/ and its subfolders); a module adds
 # sources by adding files, but a new subfolder of emu/, render/ or tracker/
 # must be added to LIB_SRC.  tests/*.c make the test runner.
@@ -193,7 +193,7 @@ endif
 
 # firmware/host/ is the host workstation's side (it loads data and drives the
 # machine through emu's full API); the rest of firmware/ runs on the GPs.
-LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c tracker/*.c firmware/host/*.c))
+LIB_SRC  := $(sort $(wildcard emu/*.c emu/util/*.c render/*.c render/mesh/*.c tracker/*.c firmware/host/*.c))
 FW_SRC   := $(sort $(filter-out firmware/host/%,$(wildcard firmware/*.c firmware/*/*.c)))
 CLI_SRC  := $(sort $(wildcard emu/cli/*.c))
 TEST_SRC := $(sort $(wildcard tests/*.c))

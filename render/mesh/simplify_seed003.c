@@ -1,0 +1,522 @@
+/* simplify_seed003.c: edge deletion of Cao, Liu, Bao, Peng
+ * (../shared/seeds/003_97c17de217dc9b5f.txt, §2.1-§2.4).
+ *
+ * Vertex importance (§2.1) from the spread of the face normals around each
+ * vertex; the new point from the interpolating stencils (seed003_stencil.c);
+ * the order from the control function (§2.3)
+ *   F(e) = Cd max D(t) + Cs S(e) + Cl L(e),
+ * D = the turn of each face around the new point (angle / pi), S = the largest
+ * L_e / L_max of the faces containing e, L = |e| / the input's mean edge
+ * length; the weights change once (phase 2) and every edge is re-costed;
+ * independent sets (§2.3): each deletion freezes the edges of the faces around
+ * the new point until every queued edge is frozen.  The paper's unset values
+ * and the rules it leaves open are in ARCHITECTURE.md. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "seed003_stencil.h"
+
+static const double PI = 3.14159265358979323846;
+
+/* Queue ids (edge corners) set aside while frozen (§2.3). */
+enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
+
+typedef struct {
+    sw_t *w;
+    const mesh_simplify_opts_t *o;
+    s003_context_t ctx;
+    uint8_t *importance, *corner;
+    uint32_t *frozen, epoch;      /* vertex frozen while frozen[v] == epoch */
+    uint32_t *mark, mark_epoch;   /* vertices in the current update set */
+    double mean_edge;
+    int phase;
+    /* frozen edges: popped ones keep their key; re-costed ones are
+     * evaluated once, when they thaw (nothing they depend on can change
+     * before then without re-costing them again) */
+    uint8_t *dstate;
+    uint8_t *dirty;               /* queued under a lower bound, not yet costed */
+    bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
+    double *dcost;
+    uint64_t *dtie;
+    int32_t *dlist;
+    int dn, dcap;
+    double ring_table[S003_RING_TABLE_SIZE];
+} s003_t;
+
+static double cos_between(const double a[3], const double b[3])
+{
+    double l = sqrt(sw_dot(a, a) * sw_dot(b, b));
+    if (!(l > 0))
+        return 1.0;
+    double c = sw_dot(a, b) / l;
+    return c > 1 ? 1 : c < -1 ? -1 : c;
+}
+
+static double angle_between(const double a[3], const double b[3])
+{
+    return acos(cos_between(a, b));
+}
+
+/* The ends of v's boundary path (two boundary neighbours), or false. */
+static bool boundary_ends(const sw_t *w, int v, int nb[2])
+{
+    const int32_t *fan = sw_fan(w, v);
+    int n = 0;
+    if (w->fan_kind[v] == SW_FAN_PATH) {
+        nb[0] = w->nextv[fan[0]];
+        nb[1] = w->prevv[fan[w->fan_n[v] - 1]];
+        return true;
+    }
+    for (int i = 0; i < w->fan_n[v] && n < 2; i++)
+        for (int k = 0; k < 2 && n < 2; k++) {
+            int x = (k ? w->prevv : w->nextv)[fan[i]];
+            if ((n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1)
+                nb[n++] = x;
+        }
+    return n == 2;
+}
+
+/* The angle between the two boundary edges at v (0 on a straight boundary). */
+static double boundary_turn(const sw_t *w, int v)
+{
+    int nb[2];
+    if (!boundary_ends(w, v, nb))
+        return PI;
+    const double *p = w->pos + 3 * v, *a = w->pos + 3 * nb[0], *b = w->pos + 3 * nb[1];
+    double u[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    double t[3] = {b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+    return angle_between(u, t);
+}
+
+/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
+ * the two; A2 = the wider of the two groups' cones.  Faces are taken in
+ * index order (the first widest pair wins a tie). */
+static void classify_vertex(s003_t *s, int v)
+{
+    const sw_t *w = s->w;
+    int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
+    double nr[SW_MAX_FAN][3];
+    int32_t faces[SW_MAX_FAN];
+    const int32_t *fan = sw_fan(w, v);
+    for (int i = 0; i < n; i++) {
+        int j = i;
+        for (; j > 0 && faces[j - 1] > fan[i] / 3; j--)
+            faces[j] = faces[j - 1];
+        faces[j] = fan[i] / 3;
+    }
+    for (int i = 0; i < n; i++)
+        sw_face_normal(w, faces[i], nr[i]);
+    /* acos falls monotonically (glibc's is correctly rounded), so angles
+     * compare through their cosines; acos is taken only where a cosine could
+     * tie (the same angles, and the same first widest pair, as comparing
+     * every angle) */
+    double a1 = 0, c1 = 1.0;
+    int bi = 0, bj = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) {
+            double c = cos_between(nr[i], nr[j]);
+            if (c > c1)
+                continue;   /* acos(c) <= a1: not wider */
+            double t = acos(c);
+            if (t > a1)
+                a1 = t, c1 = c, bi = i, bj = j;
+        }
+    int group[SW_MAX_FAN];
+    for (int i = 0; i < n; i++) {
+        double cj = cos_between(nr[i], nr[bj]), ci = cos_between(nr[i], nr[bi]);
+        /* |d acos / dc| >= 1: cosines this far apart order their angles */
+        group[i] = cj - ci > 1e-12 ? 1 : ci - cj > 1e-12 ? 0 : acos(cj) < acos(ci);
+    }
+    double c2 = 1.0;   /* a2 = acos of the smallest cosine within a group */
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (group[i] == group[j])
+                c2 = sw_min(c2, cos_between(nr[i], nr[j]));
+    double a2 = acos(c2);
+    double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
+    int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
+    s->corner[v] = imp == 2;
+    if (imp < 2 && sw_vertex_on_boundary(w, v)) {
+        imp++;
+        /* Added rule: where the boundary itself turns by more than the crease
+         * angle the vertex is a corner, though its normals may all agree (a
+         * flat sheet's corner); §2.1 would give it importance 1 and case 4
+         * would round it off. */
+        if (boundary_turn(w, v) > crease)
+            imp = 2, s->corner[v] = 1;
+    }
+    s->importance[v] = (uint8_t)imp;
+}
+
+static void stencil_point(const s003_t *s, const s003_stencil_t *st, double p[3])
+{
+    p[0] = p[1] = p[2] = 0;
+    for (int i = 0; i < st->n; i++)
+        for (int k = 0; k < 3; k++)
+            p[k] += st->w[i] * s->w->pos[3 * st->v[i] + k];
+}
+
+static double dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The roundness of face (a, b, o): L_e / L_max (§2.3). */
+static double roundness(const double *pa, const double *pb, const double *po, double le)
+{
+    double lmax = fmax(dist(pa, po), dist(pb, po));
+    return lmax > 0 ? le / lmax : 0;
+}
+
+/* F without its D term, Cs S + Cl L: neither depends on the new point, D
+ * is >= 0, and rounding is monotone, so this is <= the F that
+ * control_function computes (its sum is (Cd D + Cs S) + Cl L, in that
+ * order).  Queued under it, an edge is costed only when it reaches the top
+ * of the queue, and the order of deletions is the same as costing at once. */
+static double lower_bound(const s003_t *s, int a, int b)
+{
+    const sw_t *w = s->w;
+    const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
+    double le = dist(pa, pb), smax = 0;
+    int c1 = sw_find_corner(w, a, b), c2 = sw_find_corner(w, b, a);
+    if (c1 >= 0)
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c1], le));
+    if (c2 >= 0)
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c2], le));
+    int ph = s->phase;
+    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * le / s->mean_edge;
+}
+
+/* F(e) at new point p, or false if the merge is not allowed there (m: the
+ * merge test, reused by the deletion itself). */
+static bool control_function(s003_t *s, int a, int b, const double p[3], double *F,
+                             sw_merge_t *m)
+{
+    const sw_t *w = s->w;
+    int32_t S[2] = {a, b};
+    if (sw_test_merge(w, S, 2, p, m) != SW_OK)
+        return false;
+    /* D: the largest turn, from the smallest cosine (acos falls monotonically);
+     * the test's dot products give cos_between(n_old, n_new) */
+    double cmin = 1.0, smax = 0;
+    for (int i = 0; i < m->n_keep; i++) {
+        double l = sqrt(m->turn_len2[i]), c = l > 0 ? m->turn_dot[i] / l : 1.0;
+        cmin = sw_min(cmin, c > 1 ? 1 : c < -1 ? -1 : c);
+    }
+    double dmax = acos(cmin) / PI;
+    const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
+    double le = dist(pa, pb);
+    for (int i = 0; i < m->n_removed; i++) {
+        const int32_t *t = w->tri + 3 * m->removed[i];
+        int o = t[0] != a && t[0] != b ? t[0] : t[1] != a && t[1] != b ? t[1] : t[2];
+        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * o, le));
+    }
+    int ph = s->phase;
+    *F = s->o->s003_cd[ph] * dmax + s->o->s003_cs[ph] * smax +
+         s->o->s003_cl[ph] * le / s->mean_edge;
+    return true;
+}
+
+/* The new point for deleting (a, b) (a < b) under the chosen rule, its cost
+ * and its merge test. */
+static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F, sw_merge_t *m)
+{
+    s003_stencil_t st;
+    if (!s003_stencil(&s->ctx, a, b, &st))
+        return false;
+    seed003_point_t mode = s->o->s003_point;
+    if (st.which == S003_CASE_PINNED || mode == SEED003_POINT_STENCIL) {
+        stencil_point(s, &st, p);
+        return control_function(s, a, b, p, F, m);
+    }
+    const double *pa = s->w->pos + 3 * a, *pb = s->w->pos + 3 * b;
+    if (mode == SEED003_POINT_MIDPOINT) {
+        for (int k = 0; k < 3; k++)
+            p[k] = 0.5 * (pa[k] + pb[k]);
+        return control_function(s, a, b, p, F, m);
+    }
+    double fa, fb;   /* the better endpoint */
+    bool oka = control_function(s, a, b, pa, &fa, m), okb = control_function(s, a, b, pb, &fb, m);
+    if (!oka && !okb)
+        return false;
+    bool use_a = oka && (!okb || fa <= fb);
+    memcpy(p, use_a ? pa : pb, 3 * sizeof *p);
+    *F = use_a ? fa : fb;
+    if (use_a)   /* m holds b's test: redo a's */
+        control_function(s, a, b, pa, &fa, m);
+    return true;
+}
+
+static bool s003_frozen(const s003_t *s, int a, int b)
+{
+    return s->o->s003_independent_sets && s->frozen[a] == s->epoch && s->frozen[b] == s->epoch;
+}
+
+static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
+{
+    if (s->dstate[id] == S003_LIVE) {
+        if (s->dn == s->dcap) {
+            int cap = s->dcap ? 2 * s->dcap : 4096;
+            int32_t *nl = realloc(s->dlist, sizeof *nl * (size_t)cap);
+            if (!nl)
+                return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for frozen edges");
+            s->dlist = nl, s->dcap = cap;
+        }
+        s->dlist[s->dn++] = id;
+    }
+    s->dstate[id] = state;
+    return PP5_OK;
+}
+
+static void s003_forget(s003_t *s, int id)
+{
+    sw_queue_remove(&s->w->queue, id);
+    s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
+    s->dirty[id] = 0;
+}
+
+/* Queues live edge id (a < b) under its cost, or under the lower bound. */
+static void s003_cost(s003_t *s, int id, int a, int b, bool now)
+{
+    sw_t *w = s->w;
+    if (!now && s->lazy) {
+        sw_queue_set(&w->queue, id, lower_bound(s, a, b), sw_edge_tie(a, b));
+        s->dirty[id] = 1;
+        return;
+    }
+    double p[3], F;
+    sw_merge_t m;
+    s->dirty[id] = 0;
+    if (s003_evaluate(s, a, b, p, &F, &m))
+        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+    else
+        sw_queue_remove(&w->queue, id);
+}
+
+/* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
+ * it is frozen; `twin`, the edge's other corner (or -1), leaves the queue. */
+static pp5_status_t s003_queue(s003_t *s, int id, int twin)
+{
+    sw_t *w = s->w;
+    if (twin >= 0)
+        s003_forget(s, twin);
+    int a = w->tri[id], b = w->nextv[id];
+    if (a > b) {
+        int t = a;
+        a = b, b = t;
+    }
+    if (s003_frozen(s, a, b)) {
+        sw_queue_remove(&w->queue, id);
+        return s003_defer(s, id, S003_DEFERRED_DIRTY);
+    }
+    s003_cost(s, id, a, b, false);
+    return PP5_OK;
+}
+
+static pp5_status_t queue_all_edges(s003_t *s)
+{
+    sw_t *w = s->w;
+    pp5_status_t st = PP5_OK;
+    for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
+        if (!w->face_alive[c / 3])
+            continue;
+        if (w->tri[c] < w->nextv[c] || sw_corner_on_boundary(w, c))
+            st = s003_queue(s, c, -1);   /* canonical already; nothing queued yet */
+    }
+    return st;
+}
+
+/* Re-costs the edges at x; an edge between two marked vertices goes from
+ * its smaller end only.  In x's fan (counter-clockwise) corner i is the edge
+ * x -> r_i and the corner before it holds the twin r_i -> x. */
+static pp5_status_t s003_requeue_at(s003_t *s, int x)
+{
+    sw_t *w = s->w;
+    const int32_t *fan = sw_fan(w, x);
+    int n = w->fan_n[x];
+    uint8_t kind = w->fan_kind[x];
+    pp5_status_t st = PP5_OK;
+    for (int i = 0; i < n && st == PP5_OK; i++) {
+        int out = fan[i], y = w->nextv[out], in;
+        if (kind == SW_FAN_BROKEN)
+            in = sw_find_corner(w, y, x);
+        else
+            in = i > 0 ? sw_prev(fan[i - 1]) : kind == SW_FAN_CYCLE ? sw_prev(fan[n - 1]) : -1;
+        if (!(s->mark[y] == s->mark_epoch && y < x && in >= 0)) {
+            int id = x < y || in < 0 ? out : in;
+            st = s003_queue(s, id, id == out ? in : out);
+        }
+        /* a boundary edge into x from outside the set is no out-edge of the set */
+        int pc = sw_prev(out);
+        if (st == PP5_OK && kind != SW_FAN_CYCLE && s->mark[w->tri[pc]] != s->mark_epoch &&
+            sw_corner_on_boundary(w, pc))
+            st = s003_queue(s, pc, -1);
+    }
+    return st;
+}
+
+/* After deleting an edge into v: v inherits the higher importance; v and
+ * its ring freeze; every edge with an end in {v} u ring is re-costed (their
+ * stencils, D, S and L terms reach only that far: ARCHITECTURE.md). */
+static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
+{
+    sw_t *w = s->w;
+    if (s->importance[gone] > s->importance[v])
+        s->importance[v] = s->importance[gone];
+    s->corner[v] |= s->corner[gone];
+    if (++s->mark_epoch == 0)
+        memset(s->mark, 0, sizeof *s->mark * (size_t)w->nv), s->mark_epoch = 1;
+    int32_t set[SW_MAX_FAN + 2];
+    int n = 0;
+    set[n++] = v;
+    for (int i = 0; i < m->n_ring; i++)
+        set[n++] = m->ring[i];
+    for (int i = 0; i < n; i++) {
+        s->mark[set[i]] = s->mark_epoch;
+        if (s->o->s003_independent_sets)
+            s->frozen[set[i]] = s->epoch;
+    }
+    pp5_status_t st = PP5_OK;
+    for (int i = 0; i < n && st == PP5_OK; i++)
+        st = s003_requeue_at(s, set[i]);
+    return st;
+}
+
+/* Every queued edge is frozen: thaw them all (§2.3). */
+static void s003_thaw(s003_t *s)
+{
+    sw_t *w = s->w;
+    s->epoch++;
+    w->stats->unfreezes++;
+    for (int i = 0; i < s->dn; i++) {
+        int id = s->dlist[i];
+        uint8_t state = s->dstate[id];
+        s->dstate[id] = S003_LIVE;
+        if (state == S003_DEFERRED) {
+            sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
+        } else if (state == S003_DEFERRED_DIRTY) {
+            int a = w->tri[id], b = w->nextv[id];
+            s003_cost(s, id, a < b ? a : b, a < b ? b : a, false);
+        }
+    }
+    s->dn = 0;
+}
+
+/* Phase 2 (§2.3): new weights, every edge re-costed and re-sorted. */
+static pp5_status_t s003_switch_phase(s003_t *s)
+{
+    sw_t *w = s->w;
+    s->phase = 1;
+    w->stats->phase_switch_merge = w->stats->merges;
+    while (w->queue.n > 0)
+        sw_queue_remove(&w->queue, w->queue.e[w->queue.n - 1].id);
+    for (int i = 0; i < s->dn; i++)
+        s->dstate[s->dlist[i]] = S003_LIVE;
+    s->dn = 0;
+    s->epoch++;
+    return queue_all_edges(s);
+}
+
+/* Deletes one edge popped from the queue, if it may go. */
+static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
+{
+    sw_t *w = s->w;
+    int a = w->tri[e->id], b = w->nextv[e->id];
+    if (a > b) {
+        int t = a;
+        a = b, b = t;
+    }
+    if (s003_frozen(s, a, b)) {
+        s->dcost[e->id] = e->cost, s->dtie[e->id] = e->tie;
+        return s003_defer(s, e->id, s->dirty[e->id] ? S003_DEFERRED_DIRTY : S003_DEFERRED);
+    }
+    if (s->dirty[e->id]) {   /* its key was a lower bound: cost it and queue it again */
+        s003_cost(s, e->id, a, b, true);
+        return PP5_OK;
+    }
+    double p[3], F;
+    sw_merge_t m;
+    if (!s003_evaluate(s, a, b, p, &F, &m)) {
+        w->stats->refused_other++;   /* its queue entry came with an allowed merge */
+        return PP5_OK;
+    }
+    int32_t S[2] = {a, b};
+    pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
+    for (int r = 0; r < m.n_removed; r++)
+        for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
+            s->dstate[c] = S003_LIVE, s->dirty[c] = 0;
+    return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
+}
+
+static pp5_status_t s003_loop(s003_t *s)
+{
+    sw_t *w = s->w;
+    const mesh_simplify_opts_t *o = s->o;
+    pp5_status_t st = PP5_OK;
+    sw_qentry_t e;
+    double switch_at = o->s003_switch_fraction * w->input_faces;
+    while (st == PP5_OK && w->faces_alive > o->target_faces) {
+        if (s->phase == 0 && o->s003_switch_fraction > 0 && w->faces_alive <= switch_at) {
+            st = s003_switch_phase(s);
+            continue;
+        }
+        if (sw_queue_pop(&w->queue, &e)) {
+            st = s003_delete(s, &e);
+            continue;
+        }
+        if (s->dn == 0)
+            break;
+        s003_thaw(s);
+    }
+    return st;
+}
+
+static double mean_edge_length(const sw_t *w)
+{
+    double total = 0;
+    long edges = 0;
+    for (int c = 0; c < 3 * w->nf; c++) {
+        total += dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
+        edges++;
+    }
+    return edges && total > 0 ? total / (double)edges : 1.0;
+}
+
+pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
+{
+    s003_t *s = calloc(1, sizeof *s);
+    if (!s)
+        return pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
+    s->w = w, s->o = o, s->epoch = 1;
+    s->lazy = o->s003_cd[0] >= 0 && o->s003_cd[1] >= 0;
+    size_t nv = (size_t)w->nv + 1, nc = 3 * (size_t)w->nf + 1;
+    s->importance = calloc(nv, 1);
+    s->corner = calloc(nv, 1);
+    s->frozen = calloc(nv, sizeof *s->frozen);
+    s->mark = calloc(nv, sizeof *s->mark);
+    s->dstate = calloc(nc, 1);
+    s->dirty = calloc(nc, 1);
+    s->dcost = malloc(sizeof *s->dcost * nc);
+    s->dtie = malloc(sizeof *s->dtie * nc);
+    pp5_status_t st = PP5_OK;
+    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dirty ||
+        !s->dcost || !s->dtie)
+        st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
+    s->mean_edge = mean_edge_length(w);
+    for (int v = 0; v < w->nv && st == PP5_OK; v++)
+        if (w->vert_alive[v])
+            classify_vertex(s, v);
+    s003_ring_table_fill(s->ring_table);
+    s->ctx = (s003_context_t){w, s->importance, s->corner, o->s003_pin_corners,
+                              cos(o->s003_crease_deg * PI / 180), s->ring_table};
+    if (st == PP5_OK)
+        st = queue_all_edges(s);
+    if (st == PP5_OK)
+        st = s003_loop(s);
+    free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
+    free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dlist);
+    free(s);
+    return st;
+}

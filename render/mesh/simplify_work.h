@@ -1,0 +1,182 @@
+/* simplify_work.h: the working mesh the three simplifiers share: corner
+ * fans kept in rotational order, the merge test (manifold link, fold-over),
+ * the merge itself with its record entry, and an indexed priority queue of
+ * candidate merges.
+ *
+ * Layout (render/mesh/ARCHITECTURE.md, "Speed"): corner c = 3 f + k is vertex
+ * tri[c] of face f; the face is (tri[c], tri[sw_next(c)], tri[sw_prev(c)])
+ * counter-clockwise, and corner c also names the directed edge
+ * tri[c] -> tri[sw_next(c)]; nextv and prevv keep the other two vertices of
+ * every corner at hand (no index arithmetic, one load).  Each vertex keeps the corners at it in
+ * counter-clockwise order (a cycle inside, a path starting at the boundary
+ * on the boundary), so its ring, valence and the third vertex of any of its
+ * faces are read off in O(valence) without searching faces.  The queue holds
+ * each candidate once under a fixed id (a corner for edges, a face for
+ * triangles) and re-costing moves it in place, so no stale entries pile up. */
+#ifndef PP5_SIMPLIFY_WORK_H
+#define PP5_SIMPLIFY_WORK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "mesh_simplify.h"
+
+#define SW_MAX_FAN 256     /* faces around a merge; larger neighbourhoods are refused */
+
+static inline int sw_next(int c)
+{
+    return c % 3 == 2 ? c - 2 : c + 1;
+}
+static inline int sw_prev(int c)
+{
+    return c % 3 == 0 ? c + 2 : c - 1;
+}
+
+/* How the corners at a vertex fit together. */
+enum { SW_FAN_CYCLE, SW_FAN_PATH, SW_FAN_BROKEN };
+
+/* ---- the candidate queue: an indexed 4-ary min-heap on (cost, tie) ---- */
+typedef struct {
+    double cost;
+    uint64_t tie;          /* ties break on this (lower vertex / face ids first) */
+    int32_t id;
+} sw_qentry_t;
+
+typedef struct {
+    sw_qentry_t *e;
+    int32_t *where;        /* id -> index in e, or -1 */
+    int n, n_ids;
+} sw_queue_t;
+
+pp5_status_t sw_queue_init(sw_queue_t *q, int n_ids);
+void sw_queue_free(sw_queue_t *q);
+/* Inserts id or moves it to its new key. */
+void sw_queue_set(sw_queue_t *q, int id, double cost, uint64_t tie);
+void sw_queue_remove(sw_queue_t *q, int id);
+/* Building a queue at once: append each id once, then heapify (O(n)). */
+void sw_queue_append(sw_queue_t *q, int id, double cost, uint64_t tie);
+void sw_queue_heapify(sw_queue_t *q);
+bool sw_queue_pop(sw_queue_t *q, sw_qentry_t *out);
+static inline bool sw_queue_has(const sw_queue_t *q, int id)
+{
+    return q->where[id] >= 0;
+}
+static inline uint64_t sw_edge_tie(int a, int b)
+{
+    return a < b ? (uint64_t)a << 32 | (uint32_t)b : (uint64_t)b << 32 | (uint32_t)a;
+}
+
+/* What a merge test found: the surviving faces (as their corner at the
+ * merged set, in fan order, with their normals after the merge) and the
+ * removed ones. */
+typedef struct {
+    int n_keep, n_removed;
+    int32_t keep[SW_MAX_FAN], removed[SW_MAX_FAN];
+    double n_new[SW_MAX_FAN][3];
+    /* n_old . n_new and |n_old|^2 |n_new|^2 per kept face (n_old: its normal
+     * before): the cosine of its turn is turn_dot / sqrt(turn_len2) */
+    double turn_dot[SW_MAX_FAN], turn_len2[SW_MAX_FAN];
+    int n_ring;
+    int32_t ring[SW_MAX_FAN + 1]; /* the link vertices (the new vertex's neighbours), in order */
+    bool boundary;                /* the new vertex lies on a boundary */
+} sw_merge_t;
+
+typedef enum { SW_OK, SW_TOPOLOGY, SW_FOLD } sw_verdict_t;
+
+typedef struct {
+    int nv, nf, faces_alive, input_faces;
+    double *pos;
+    int32_t *tri;
+    int32_t *nextv, *prevv;              /* per corner: tri[sw_next(c)], tri[sw_prev(c)] */
+    uint8_t *face_alive, *vert_alive;
+    uint8_t *fan_kind;                   /* SW_FAN_* per vertex */
+    int32_t *fan_off, *fan_n, *fan_cap;  /* per vertex: corners in pool[off .. off+n) */
+    int32_t *pool;
+    size_t pool_n, pool_cap;
+    int32_t *rec_id;                     /* vertex slot -> record vertex id */
+    bool manifold;                       /* no edge direction twice at any vertex (input) */
+    double *fnormal;                     /* per face: sw_face_normal, kept current */
+    double fold_cos_min;
+    sw_queue_t queue;
+    /* the record being built */
+    bool recording;
+    double *r_pos;
+    int32_t *r_parent, *r_death, *r_face_death;
+    size_t r_nv, r_cap;
+    int32_t *r_level_step, *r_level_faces, *r_level_vertices;
+    int r_levels, r_level_cap, step, verts_alive;
+    mesh_simplify_stats_t *stats;
+} sw_t;
+
+/* queue_ids: how many ids the candidate queue takes (3 nf for edges, nf for faces). */
+pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
+                     mesh_simplify_stats_t *st);
+void sw_free(sw_t *w);
+/* Every edge in at most two faces, each direction in at most one. */
+pp5_status_t sw_check_edge_manifold(const sw_t *w, const char *source);
+
+static inline const int32_t *sw_fan(const sw_t *w, int v)
+{
+    return w->pool + w->fan_off[v];
+}
+/* How many faces hold both a and b. */
+int sw_edge_faces(const sw_t *w, int a, int b);
+bool sw_vertex_on_boundary(const sw_t *w, int v);
+/* The corner of directed edge a -> b, or -1. */
+int sw_find_corner(const sw_t *w, int a, int b);
+/* The third vertex of the face holding directed edge a->b, or -1. */
+static inline int sw_opposite(const sw_t *w, int a, int b)
+{
+    int c = sw_find_corner(w, a, b);
+    return c < 0 ? -1 : w->tri[sw_prev(c)];
+}
+/* Does directed edge c (tri[c] -> tri[next c]) lack a twin? */
+bool sw_corner_on_boundary(const sw_t *w, int c);
+/* The queue id of undirected edge a-b: the corner a -> b when a < b and it
+ * exists, else the only corner (a boundary edge); -1 if a-b is no edge. */
+int sw_edge_id(const sw_t *w, int a, int b);
+/* The 1-ring of interior vertex v in order, starting at `first` (a neighbour);
+ * returns its length, or -1 if v is on a boundary or the ring is not one cycle. */
+int sw_ring(const sw_t *w, int v, int first, int32_t *ring, int cap);
+
+/* Tests merging the k vertices S into one at p.  Fills m (may be used for
+ * costs) and returns the verdict. */
+sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double p[3],
+                           sw_merge_t *m);
+/* Performs a tested merge: S[0] survives at p; records k-1 steps.  Queue
+ * entries of the removed faces' corners are dropped. */
+pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
+                            const sw_merge_t *m);
+
+void sw_face_normal(const sw_t *w, int f, double n[3]);
+
+/* The working mesh as it stands (alive vertices renumbered in slot order). */
+pp5_status_t sw_to_mesh(const sw_t *w, mesh_t *out);
+/* Moves the record out of the working mesh. */
+pp5_status_t sw_take_record(sw_t *w, const mesh_t *in, mesh_record_t *r);
+
+/* Method entry points (simplify_qem.c, simplify_seed001.c, simplify_seed003.c). */
+pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o);
+pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o);
+pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o);
+
+static inline double sw_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline void sw_cross(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+/* max/min without the libm call (no NaN reaches them here) */
+static inline double sw_max(double a, double b)
+{
+    return a > b ? a : b;
+}
+static inline double sw_min(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+#endif
