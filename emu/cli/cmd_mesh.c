@@ -57,19 +57,7 @@ static void usage(void)
 /* Loads FILE or a generated mesh named gen:NAME. */
 static pp5_status_t mesh_cli_load(const char *what, mesh_t *m)
 {
-    if (strncmp(what, "gen:", 4) != 0)
-        return mesh_load(what, m);
-    const char *g = what + 4;
-    if (strcmp(g, "sphere") == 0)
-        return mesh_gen_uv_sphere(20, 20, 1.0, m);
-    if (strcmp(g, "torus") == 0)
-        return mesh_gen_torus(48, 24, 1.0, 0.35, m);
-    if (strcmp(g, "grid") == 0)
-        return mesh_gen_grid(32, 32, 1.0, 1.0, m);
-    if (strcmp(g, "cube") == 0)
-        return mesh_gen_cube(8, m);
-    return pp5_fail(PP5_E_CONFIG, "%s: unknown generated mesh (sphere, torus, grid, cube)",
-                    what);
+    return strncmp(what, "gen:", 4) == 0 ? mesh_gen_by_name(what, m) : mesh_load(what, m);
 }
 
 static int cmd_info(int argc, char **argv)

@@ -27,7 +27,7 @@ typedef struct {
     double attr[TRI_MAX_ATTRS];
 } tri_vertex_t;
 
-typedef struct {
+typedef struct tri_setup_s {
     tri_vertex_t v[3];
     int n_attrs;
     double sign;        /* makes the edge functions positive inside */
