@@ -211,3 +211,13 @@ TEST(mesh_cli_render_scene_writes_image_and_report_and_refuses_cleanly)
         free(text);
     }
 }
+
+TEST(mesh_scene_example_file_loads)
+{
+    mesh_scene_t s;
+    REQUIRE(mesh_scene_load("render/mesh/example.scene", &s) == PP5_OK);
+    CHECK_EQ(s.n_objects, 4);
+    CHECK_EQ(s.n_meshes, 3);   /* the sphere is instanced */
+    CHECK(s.have_camera && s.specular == 0.4);
+    mesh_scene_free(&s);
+}
