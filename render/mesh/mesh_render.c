@@ -18,6 +18,13 @@ double mesh_render_now_ms(void)
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
 }
 
+double mesh_render_cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
 static void normalise(double v[3])
 {
     double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -255,7 +262,7 @@ pp5_status_t mesh_render_full(const mesh_soup_t *soup, const raster_camera_t *ca
                               const mesh_render_opts_t *o, int width, int height, image8_t *img,
                               mesh_render_stats_t *st)
 {
-    double t0 = mesh_render_now_ms();
+    double t0 = mesh_render_now_ms(), c0 = mesh_render_cpu_ms();
     memset(st, 0, sizeof *st);
     pp5_status_t s = image8_alloc(img, width, height, 3);
     if (s != PP5_OK)
@@ -284,5 +291,6 @@ pp5_status_t mesh_render_full(const mesh_soup_t *soup, const raster_camera_t *ca
     free(z.depth);
     free(z.attr);
     st->ms = mesh_render_now_ms() - t0;
+    st->cpu_ms = mesh_render_cpu_ms() - c0;
     return PP5_OK;
 }

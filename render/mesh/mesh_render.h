@@ -54,6 +54,7 @@ typedef struct {
     uint64_t pixels_shaded;    /* visible samples, each shaded once */
     uint64_t samples;          /* samples in the Z-buffer (pixels, or populated texels) */
     double ms;                 /* host wall time of the render */
+    double cpu_ms;             /* its thread CPU time (steadier on a shared host) */
 } mesh_render_stats_t;
 
 /* The scene's light and colours, the light turned into the camera's frame. */
@@ -89,5 +90,6 @@ void mesh_render_triangles(const mesh_soup_t *soup, const raster_camera_t *cam,
 /* The 8-bit colour of a sample from its attributes. */
 void mesh_render_shade(const mesh_render_opts_t *o, const float *attrs, uint8_t rgb[3]);
 double mesh_render_now_ms(void);
+double mesh_render_cpu_ms(void);   /* this thread's CPU time */
 
 #endif

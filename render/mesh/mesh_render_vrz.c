@@ -164,7 +164,7 @@ pp5_status_t mesh_render_vrz(const mesh_soup_t *soup, const raster_camera_t *cam
                              const mesh_render_opts_t *o, const gaze_model_t *g, double gaze_x,
                              double gaze_y, image8_t *img, mesh_render_stats_t *st)
 {
-    double t0 = mesh_render_now_ms();
+    double t0 = mesh_render_now_ms(), c0 = mesh_render_cpu_ms();
     memset(st, 0, sizeof *st);
     int width = g->width, height = g->height, nlev = g->max_level + 1;
     if (nlev > MIP2D_MAX_LEVELS)
@@ -199,5 +199,6 @@ pp5_status_t mesh_render_vrz(const mesh_soup_t *soup, const raster_camera_t *cam
     free(levels);
     mip2d_free(&m);
     st->ms = mesh_render_now_ms() - t0;
+    st->cpu_ms = mesh_render_cpu_ms() - c0;
     return s;
 }
