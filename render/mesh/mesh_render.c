@@ -177,7 +177,13 @@ static bool draw_one(const pipe_t *p, const mesh_soup_t *s, int t, mesh_render_s
         sv[i].z = poly[i].clip[2] * iw;
         sv[i].inv_w = iw;
     }
-    double area = (sv[1].x - sv[0].x) * (sv[2].y - sv[0].y) - (sv[1].y - sv[0].y) * (sv[2].x - sv[0].x);
+    /* the clipped polygon's signed area (shoelace), so a sliver first
+     * triangle cannot decide the facing of a clipped quad */
+    double area = 0;
+    for (int i = 0; i < n; i++) {
+        const tri_vertex_t *a = &sv[i], *b = &sv[(i + 1) % n];
+        area += a->x * b->y - b->x * a->y;
+    }
     bool front = area < 0;
     if (!front && p->o->cull_back)
         return false;
