@@ -282,7 +282,9 @@ pp5_status_t mesh_render_full(const mesh_soup_t *soup, const raster_camera_t *ca
     }
     for (size_t i = 0; i < n; i++)
         z.depth[i] = INFINITY;
+    double c_tri = mesh_render_cpu_ms();
     mesh_render_triangles(soup, cam, o, width, height, zbuf_sink, &z, st);
+    st->cpu_ms_triangles = mesh_render_cpu_ms() - c_tri;
     for (size_t i = 0; i < n; i++) {
         uint8_t *px = img->pixels + 3 * i;
         if (z.depth[i] == INFINITY) {

@@ -55,6 +55,8 @@ typedef struct {
     uint64_t samples;          /* samples in the Z-buffer (pixels, or populated texels) */
     double ms;                 /* host wall time of the render */
     double cpu_ms;             /* its thread CPU time (steadier on a shared host) */
+    double cpu_ms_triangles;   /* of which: transform, set-up, scan conversion, Z */
+
 } mesh_render_stats_t;
 
 /* The scene's light and colours, the light turned into the camera's frame. */

@@ -188,7 +188,9 @@ pp5_status_t mesh_render_vrz(const mesh_soup_t *soup, const raster_camera_t *cam
     if (s == PP5_OK)
         s = image8_alloc(img, width, height, 3);
     if (s == PP5_OK) {
+        double c_tri = mesh_render_cpu_ms();
         mesh_render_triangles(soup, cam, o, width, height, vrz_sink, &v, st);
+        st->cpu_ms_triangles = mesh_render_cpu_ms() - c_tri;
         vrz_resolve(&v, o, &m, &st->pixels_shaded);
         for (int y = 0; y < height; y++)
             mip2d_render_row(&m, y, levels + (size_t)y * (size_t)width, width,
