@@ -221,3 +221,39 @@ TEST(mesh_scene_example_file_loads)
     CHECK(s.have_camera && s.specular == 0.4);
     mesh_scene_free(&s);
 }
+
+TEST(mesh_lod_budget_matches_the_hand_value)
+{
+    /* gen:sphere: box [-1, 1]^3, bounding radius sqrt 3.  Camera 40 units
+     * away on +z, 40 degree field of view, 640 x 480: f = 1 / tan 20 deg =
+     * 2.74748, so the radius projects to sqrt 3 x 2.74748 / 40 x 240 =
+     * 28.553 px.  At x = 8 the centre is at screen x = 451.9, 423 px (less
+     * the radius) from a gaze at (0, 240): 8.9 inches at 20, 24 degrees, far
+     * in the periphery (rho = 1/16).  Budget: 2 pi 28.553^2 / 16 = 320.2
+     * faces -> the finest recorded level with at most 321 faces. */
+    const char *dir = pp5_test_outdir();
+    const char *path = write_text(dir, "lod.scene", "mesh gen:sphere\ntranslate 8 0 0\n"
+                                                    "camera 0 0 40 0 0 0 40\n");
+    mesh_scene_t s;
+    REQUIRE(mesh_scene_load(path, &s) == PP5_OK);
+    REQUIRE(mesh_scene_build_records(&s) == PP5_OK);
+    raster_camera_t cam;
+    mesh_scene_camera(&s, 640.0 / 480, &cam);
+    gaze_display_t d;
+    gaze_display_defaults(&d);
+    gaze_model_t g;
+    REQUIRE(gaze_model_init(&g, &d, 640, 480) == PP5_OK);
+    const mesh_record_t *rec = &s.meshes[0].rec;
+    int level;
+    long faces;
+    mesh_lod_choose(&s, &cam, &g, 0, 240, &level, &faces);
+    CHECK(level > 0);
+    CHECK(rec->level_faces[level] <= 321);
+    CHECK(rec->level_faces[level - 1] > 321);
+    CHECK_EQ(faces, rec->level_faces[level]);
+    /* gazed at: rho = 1, a budget of 5,123 faces, over the sphere's 760 */
+    mesh_lod_choose(&s, &cam, &g, 451.9, 240, &level, &faces);
+    CHECK_EQ(level, 0);
+    CHECK_EQ(faces, 760);
+    mesh_scene_free(&s);
+}
