@@ -55,6 +55,7 @@ static void render_usage(void)
            "                        --mode gaze: levels of detail by eccentricity and the\n"
            "                        variable-resolution Z-buffer (paper §7); --compare adds\n"
            "                        full, LOD-only and VRZ-only frames and the savings table\n"
+           "                        (one host thread; --out and --report as for volumes)\n"
            "Outputs:\n"
            "  --out FILE.png        the image\n"
            "  --report FILE.json    rays, samples, timings, settings (and quality)\n"

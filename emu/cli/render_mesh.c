@@ -110,6 +110,12 @@ static pp5_status_t run_gaze(mesh_run_t *r, const mesh_soup_t *full, mesh_soup_t
     return st;
 }
 
+/* How many times fewer: base / x (1 when both are zero). */
+static double times_fewer(double base, double x)
+{
+    return x > 0 ? base / x : base > 0 ? INFINITY : 1;
+}
+
 static void print_table(const mesh_run_t *r, FILE *log)
 {
     const variant_t *f = &r->v[V_FULL];
@@ -141,10 +147,10 @@ static void print_table(const mesh_run_t *r, FILE *log)
     for (int k = V_LOD; k < N_VARIANTS; k++) {
         const mesh_render_stats_t *s = &r->v[k].st;
         fprintf(log, "  %-24s %5.2fx %5.2fx %5.2fx %5.2fx\n", r->v[k].what,
-                (double)f->st.triangles_in / fmax(1, (double)s->triangles_in),
-                (double)f->st.fragments / fmax(1, (double)s->fragments),
-                (double)f->st.pixels_shaded / fmax(1, (double)s->pixels_shaded),
-                f->st.cpu_ms / fmax(1e-6, s->cpu_ms));
+                times_fewer((double)f->st.triangles_in, (double)s->triangles_in),
+                times_fewer((double)f->st.fragments, (double)s->fragments),
+                times_fewer((double)f->st.pixels_shaded, (double)s->pixels_shaded),
+                times_fewer(f->st.cpu_ms, s->cpu_ms));
     }
 }
 
