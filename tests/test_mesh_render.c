@@ -254,3 +254,66 @@ TEST(mesh_render_vrz_equals_full_resolution_in_the_sweet_spot_and_costs_less)
     CHECK(v.samples < 128 * 96 / 2);
     CHECK_EQ(v.triangles_drawn, f.triangles_drawn);
 }
+
+TEST(mesh_render_a_fan_is_drawn_without_overlaps_or_gaps_on_every_grid)
+{
+    /* a 10-gon fan in one plane (orthographic, 64 x 48, vertices off the
+     * pixel grid and one on a pixel centre): every covered sample is covered
+     * once (fragments = samples shaded), at full resolution and in the
+     * variable-resolution Z-buffer's coarser grids, and the full-resolution
+     * count equals the pixel centres strictly inside plus some of those on
+     * the boundary */
+    enum { N = 10 };
+    double xyz[9 * N], rgb[9 * N], cx = 31.3, cy = 23.7, poly[N][2];
+    for (int i = 0; i < N; i++) {
+        double a = 2 * 3.14159265358979323846 * i / N;
+        poly[i][0] = cx + 20 * cos(a), poly[i][1] = cy + 20 * sin(a);
+    }
+    poly[3][0] = 25.5, poly[3][1] = 42.5;
+    for (int i = 0; i < N; i++) {
+        const double *p[3] = {(const double[2]){cx, cy}, poly[i], poly[(i + 1) % N]};
+        for (int c = 0; c < 3; c++) {
+            /* world y up: image row r has its centre at world y = 48 - (r + 0.5) */
+            xyz[9 * i + 3 * c] = p[c][0], xyz[9 * i + 3 * c + 1] = p[c][1];
+            xyz[9 * i + 3 * c + 2] = -1;
+            rgb[9 * i + 3 * c] = rgb[9 * i + 3 * c + 1] = 0.5, rgb[9 * i + 3 * c + 2] = 0;
+        }
+    }
+    mesh_soup_t s;
+    soup_of(&s, xyz, rgb, N);
+    raster_camera_t cam;
+    raster_camera_ortho(0, 64, 0, 48, 0.5, 10, &cam);
+    mesh_render_opts_t o;
+    unlit(&o, RASTER_GOURAUD);
+    image8_t img;
+    mesh_render_stats_t st;
+    REQUIRE(mesh_render_full(&s, &cam, &o, 64, 48, &img, &st) == PP5_OK);
+    CHECK_EQ(st.fragments, st.pixels_shaded);
+    int inside = 0, boundary = 0;
+    for (int r = 0; r < 48; r++)
+        for (int x = 0; x < 64; x++) {
+            double px = x + 0.5, py = 48 - (r + 0.5);
+            bool in = true, on = false;
+            for (int i = 0; i < N && in; i++) {
+                const double *a = poly[i], *b = poly[(i + 1) % N];
+                double e = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+                in = e >= 0;
+                on |= e == 0;
+            }
+            inside += in && !on;
+            boundary += in && on;
+        }
+    CHECK(boundary >= 1);   /* the vertex on a pixel centre */
+    CHECK((int)st.pixels_shaded >= inside && (int)st.pixels_shaded <= inside + boundary);
+    image8_free(&img);
+    gaze_display_t d;
+    gaze_display_defaults(&d);
+    d.full_res_diameter_deg = 2, d.periphery_diameter_deg = 4;
+    gaze_model_t g;
+    REQUIRE(gaze_model_init(&g, &d, 64, 48) == PP5_OK);
+    REQUIRE(mesh_render_vrz(&s, &cam, &o, &g, 10, 10, &img, &st) == PP5_OK);
+    CHECK_EQ(st.fragments, st.pixels_shaded);
+    CHECK(st.samples < 64 * 48 / 2);
+    image8_free(&img);
+    mesh_soup_free(&s);
+}
