@@ -247,11 +247,11 @@ $(BUILD)/%.o: %.c
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c -o $@ $<
 
 # libFuzzer targets: tests/fuzz/fuzz_NAME.c, each linked with tests/fuzz/common.c
-# and an archive of the parsing layers (render/, tracker/, emu/util/ and the
+# and an archive of the parsing layers (render/, render/mesh/, tracker/, emu/util/ and the
 # parameter table), so a target pulls in only the objects it uses; the
 # machine model's SIMD kernels are gcc-only and never parse input.  Built only
 # under SAN=fuzz (`make fuzz`).
-FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c tracker/*.c) emu/params.c emu/pp_params.c)
+FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c render/mesh/*.c tracker/*.c) emu/params.c emu/pp_params.c)
 FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_version.o
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/fuzz/common.o
