@@ -24,7 +24,6 @@
 #define PROJ_SIZE 210                  /* Table I's image: 44,100 full-resolution rays */
 
 static const char *const lightings[2] = {"diffuse", "specular"};
-static const char *const presets[2] = {"default", "gaze1990-literal"};
 
 static void setup_job(const proj_workload_t *w, int lighting, int size, render_job_t *job)
 {
@@ -185,6 +184,10 @@ static int run_table(const proj_workload_t *w, int n_work, int size, proj_best_t
            "steady MB | GP busy mean/max | bottleneck (steady) | progressive |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     memset(best, 0, sizeof *best);
+    /* The two ring readings are the parameter table's two presets. */
+    size_t n_presets;
+    const char *const *presets = pp5_params_preset_names(&n_presets);
+    PP5_ASSERT(n_presets == 2, "the table has one column pair per ring reading");
     for (int i = 0; i < n_work; i++)
         for (int l = 0; l < 2; l++)
             for (int pz = 0; pz < 2; pz++)
