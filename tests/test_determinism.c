@@ -5,7 +5,8 @@
  * perspective and specular lighting), test-pattern and the gaze-directed
  * firmware on the emulated machine, a sweep (whose rows for 1, 2 and 3 host
  * threads must agree), replay through the emulated machine, trace synth and
- * import, and mesh simplification with its level record.  Replay's machine cost
+ * import, mesh simplification with its level record, and the images of
+ * reproduce demip.  Replay's machine cost
  * source runs one host thread (firmware/host/replay_machine.c), and synth and
  * import run none, so those are compared run against run. */
 #include <stdio.h>
@@ -155,4 +156,17 @@ TEST(determinism_twice_mesh_simplify_with_levels)
                          "--levels @/s.pmr",
                          outs, just_one, 1, NULL);
     CHECK_EQ(n, 2);
+}
+
+TEST(determinism_threads_reproduce_demip_images)
+{
+    /* A reproduction's images (its tables carry host times, which differ
+     * from run to run by nature). */
+    static const char *const outs[] = {"demip_sphere-shell.png", "demip_sphere-shell_eps.png",
+                                       "demip_sphere-shell_pyramid.png", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "reproduce demip",
+                         "reproduce demip --size 32 --datasets sphere-shell --repeats 1 "
+                         "--threads {T} --out-dir @",
+                         outs, one_two_three, 3, NULL);
+    CHECK_EQ(n, 3 * 3);
 }
