@@ -124,8 +124,9 @@ yesno = $(if $(filter 1,$(1)),yes,no)
 FEATURES := NRRD=$(call yesno,$(HAVE_TEEM)) NIfTI=$(call yesno,$(HAVE_NIFTI)) \
             HID=$(call yesno,$(HAVE_HID)) USB=$(call yesno,$(HAVE_USB)) MPI=$(call yesno,$(HAVE_MPI))
 
-# umockdev (tests only): the device integration tests in tests/test_track_umockdev.c
-# emulate USB and hidraw devices with the libumockdev testbed API.  Its GLib
+# umockdev (tests only): the device integration tests (tests/test_track_umockdev*.c,
+# with tests/umockdev_bed.c) emulate USB and hidraw devices with the libumockdev
+# testbed API; TEST_CFLAGS and TEST_LIBS apply to every tests/*.c.  Its GLib
 # headers are included as system headers so that our warning flags do not
 # apply to them.
 HAVE_UMOCKDEV := $(shell pkg-config --exists umockdev-1.0 2>/dev/null && echo 1)
