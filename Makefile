@@ -124,8 +124,9 @@ yesno = $(if $(filter 1,$(1)),yes,no)
 FEATURES := NRRD=$(call yesno,$(HAVE_TEEM)) NIfTI=$(call yesno,$(HAVE_NIFTI)) \
             HID=$(call yesno,$(HAVE_HID)) USB=$(call yesno,$(HAVE_USB)) MPI=$(call yesno,$(HAVE_MPI))
 
-# umockdev (tests only): the device integration tests in tests/test_track_umockdev.c
-# emulate USB and hidraw devices with the libumockdev testbed API.  Its GLib
+# umockdev (tests only): the device integration tests (tests/test_track_umockdev*.c,
+# with tests/umockdev_bed.c) emulate USB and hidraw devices with the libumockdev
+# testbed API; TEST_CFLAGS and TEST_LIBS apply to every tests/*.c.  Its GLib
 # headers are included as system headers so that our warning flags do not
 # apply to them.
 HAVE_UMOCKDEV := $(shell pkg-config --exists umockdev-1.0 2>/dev/null && echo 1)
@@ -247,11 +248,11 @@ $(BUILD)/%.o: %.c
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c -o $@ $<
 
 # libFuzzer targets: tests/fuzz/fuzz_NAME.c, each linked with tests/fuzz/common.c
-# and an archive of the parsing layers (render/, tracker/, emu/util/ and the
+# and an archive of the parsing layers (render/, render/mesh/, tracker/, emu/util/ and the
 # parameter table), so a target pulls in only the objects it uses; the
 # machine model's SIMD kernels are gcc-only and never parse input.  Built only
 # under SAN=fuzz (`make fuzz`).
-FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c tracker/*.c) emu/params.c emu/pp_params.c)
+FUZZ_LIB_SRC := $(sort $(wildcard emu/util/*.c render/*.c render/mesh/*.c tracker/*.c) emu/params.c emu/pp_params.c)
 FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(BUILD)/%.o) $(GEN)/pp5_version.o
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_OBJ := $(FUZZ_SRC:%.c=$(BUILD)/%.o) $(BUILD)/tests/fuzz/common.o

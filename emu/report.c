@@ -5,6 +5,7 @@
 #include <string.h>
 #include "stats.h"
 #include "util/json.h"
+#include "util/outfile.h"
 #include "util/version.h"
 
 #define FNV_OFFSET 1469598103934665603ull
@@ -85,11 +86,13 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
     pp5_status_t rc = stats_collect(&st, m);
     if (rc != PP5_OK)
         return rc;
-    FILE *f = fopen(path, "w");
-    if (!f) {
+    outfile_t o;
+    rc = outfile_open(&o, path, false);
+    if (rc != PP5_OK) {
         stats_free(&st);
-        return pp5_fail(PP5_E_IO, "cannot write report %s", path);
+        return rc;
     }
+    FILE *f = o.f;
     json_writer_t j;
     json_init(&j, f, true);
     json_begin_object(&j);
@@ -100,7 +103,5 @@ pp5_status_t report_write(const machine_t *m, const report_meta_t *meta, const c
     json_end_object(&j);
     fputc('\n', f);
     stats_free(&st);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "error writing report %s", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }

@@ -2,8 +2,11 @@
  * threads, gives bit-identical images, reports and CSVs (tests/determinism.h).
  *
  * Covered here: the native renderer (gaze-directed, and progressive with
- * perspective and specular lighting), test-pattern on the emulated machine, replay through the
- * emulated machine, trace synth and trace import.  Replay's machine cost
+ * perspective and specular lighting), test-pattern and the gaze-directed
+ * firmware on the emulated machine, a sweep (whose rows for 1, 2 and 3 host
+ * threads must agree), replay through the emulated machine, trace synth and
+ * import, mesh simplification with its level record, and the images of
+ * reproduce demip.  Replay's machine cost
  * source runs one host thread (firmware/host/replay_machine.c), and synth and
  * import run none, so those are compared run against run. */
 #include <stdio.h>
@@ -97,4 +100,73 @@ TEST(determinism_twice_trace_synth_and_import)
     snprintf(args, sizeof args, "trace import %s --out @/e.trace --to paper", asc);
     static const char *const import_outs[] = {"e.trace", NULL};
     CHECK_EQ(pp5_det_runs(dir, "import", args, import_outs, just_one, 1, NULL), 1);
+}
+
+TEST(determinism_threads_machine_render_gaze)
+{
+    /* The gaze-directed firmware on the emulated machine: image, frame
+     * breakdown and machine report the same for 1, 2 and 3 host threads. */
+    static const char *const outs[] = {"m.png", "m.json", "m.json.machine.json", NULL};
+    static const char *const thread_keys[] = {"command_line", "sim.host_threads", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "render machine",
+                         "render --machine --phantom marschner-lobb --mode gaze --size 32x32 "
+                         "--gaze 12,20 --out @/m.png --report @/m.json --set sim.host_threads={T}",
+                         outs, one_two_three, 3, thread_keys);
+    CHECK_EQ(n, 3 * 3);
+}
+
+TEST(determinism_twice_sweep_and_its_rows_equal_across_host_threads)
+{
+    static const char *const outs[] = {"s.csv", "s.json", "s.png", NULL};
+    char dir[1024];   /* pp5_test_outdir() empties the folder on every call */
+    snprintf(dir, sizeof dir, "%s", pp5_test_outdir());
+    int n = pp5_det_runs(dir, "sweep",
+                         "sweep --phantom marschner-lobb --size 16x16 --set gp.count=4 "
+                         "--set sim.host_threads=1,2,3 --out @/s.csv --report @/s.json "
+                         "--plot @/s.png",
+                         outs, just_one, 1, NULL);
+    CHECK_EQ(n, 3);
+    /* Within one CSV the three rows differ only in the host-thread column
+     * (the second): every emulated figure is the same. */
+    char path[1200];
+    snprintf(path, sizeof path, "%s/sweep/run1/s.csv", dir);
+    char *text = pp5_test_read_file(path);
+    REQUIRE(text != NULL);
+    char *rows[4] = {NULL};
+    int n_rows = 0;
+    for (char *line = strtok(text, "\n"); line && n_rows < 4; line = strtok(NULL, "\n"))
+        rows[n_rows++] = line;
+    REQUIRE(n_rows == 4);
+    for (int r = 1; r <= 3; r++) {
+        char *c1 = strchr(rows[r], ','), *c2 = c1 ? strchr(c1 + 1, ',') : NULL;
+        REQUIRE(c1 && c2);
+        CHECK_EQ(c2 - c1, 2);                     /* a one-digit thread count */
+        CHECK_EQ(c1[1], '0' + r);
+        CHECK_MSG(strcmp(c2, strchr(strchr(rows[1], ',') + 1, ',')) == 0,
+                  "row %d differs from row 1 beyond the thread column", r);
+    }
+    free(text);
+}
+
+TEST(determinism_twice_mesh_simplify_with_levels)
+{
+    static const char *const outs[] = {"s.obj", "s.pmr", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "mesh",
+                         "mesh simplify gen:torus --method seed003 --ratio 0.25 --out @/s.obj "
+                         "--levels @/s.pmr",
+                         outs, just_one, 1, NULL);
+    CHECK_EQ(n, 2);
+}
+
+TEST(determinism_threads_reproduce_demip_images)
+{
+    /* A reproduction's images (its tables carry host times, which differ
+     * from run to run by nature). */
+    static const char *const outs[] = {"demip_sphere-shell.png", "demip_sphere-shell_eps.png",
+                                       "demip_sphere-shell_pyramid.png", NULL};
+    int n = pp5_det_runs(pp5_test_outdir(), "reproduce demip",
+                         "reproduce demip --size 32 --datasets sphere-shell --repeats 1 "
+                         "--threads {T} --out-dir @",
+                         outs, one_two_three, 3, NULL);
+    CHECK_EQ(n, 3 * 3);
 }

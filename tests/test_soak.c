@@ -6,8 +6,8 @@
  * also fails the run at exit), and samples its resident memory every two
  * seconds.  Peak RSS over the first and the last tenth of the run must agree
  * within 5 % + 2 MB: memory that keeps rising frame after frame is a leak.
- * The live-recording soak is in test_track_umockdev.c (it needs the emulated
- * devices there). */
+ * The live-recording soak is in test_track_umockdev_run.c (it needs the
+ * emulated devices of umockdev_bed.c). */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,11 +1,14 @@
-/* test_track_umockdev.c: device integration tests.  The REAL hidapi (hidraw
- * backend) and libusb code inside ./pp5 talks to emulated devices: this test
- * process builds a umockdev testbed (fake /sys, /dev and udev) with an
- * emulated HID page-0x12 eye tracker and an emulated Polhemus Patriot,
- * answers their ioctls from handler callbacks (libumockdev API, run on the
- * testbed's own thread), feeds the devices from trace files, and runs
- * `pp5 track ...` as a child with LD_PRELOAD=libumockdev-preload.so.0 (the
- * way umockdev-run does; ../shared/docs/tracker-devices.md §4.4).
+/* test_track_umockdev.c: device integration tests, listing and recording.
+ * The REAL hidapi (hidraw backend) and libusb code inside ./pp5 talks to
+ * emulated devices: this test process builds a umockdev testbed (fake /sys,
+ * /dev and udev) with an emulated HID page-0x12 eye tracker and an emulated
+ * Polhemus Patriot, answers their ioctls from handler callbacks (libumockdev
+ * API, run on the testbed's own thread), feeds the devices from trace files,
+ * and runs `pp5 track ...` as a child with LD_PRELOAD=libumockdev-preload.so.0
+ * (the way umockdev-run does; ../shared/docs/tracker-devices.md §4.4).  The
+ * devices and the testbed are in umockdev_bed.c; the faults (timeouts,
+ * disconnects, bad records, signals) in test_track_umockdev_faults.c; the
+ * umockdev-run route and the live soak in test_track_umockdev_run.c.
  *
  * What the child exercises for real: libusb_init / get_device_list (udev
  * enumeration) / get_device_descriptor / open / claim_interface /
@@ -16,21 +19,12 @@
  *
  * Every child run is bounded: a child still running after CHILD_DEADLINE_S
  * is killed and the test fails with "hang".  Without umockdev the tests SKIP
- * loudly. */
-#include <errno.h>
-#include <math.h>
-#include <signal.h>
+ * loudly (the one test below stands for the three files). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <time.h>
-#include <unistd.h>
 
-#include "emu/util/status.h"
 #include "harness.h"
-#include "soak.h"
-#include "tracker/trace_file.h"
 
 #ifndef PP5_HAVE_UMOCKDEV
 
@@ -42,777 +36,17 @@ TEST(track_umockdev_devices)
 
 #else
 
-#include <fcntl.h>
-#include <linux/hidraw.h>
-#include <linux/usbdevice_fs.h>
-#include <pthread.h>
-#include <stddef.h>
-#include <sys/ioctl.h>
-#include <termios.h>
-#include <umockdev.h>
-
-#include "tests/fixtures/devices/eye_tracker_desc.h"
-
-enum { CHILD_DEADLINE_S = 20, MAX_URBS = 64 };
-
-/* Which Polhemus the USB device is (tracker-devices.md §2.1, §2.3). */
-typedef struct {
-    uint16_t pid;
-    uint8_t ep_out, ep_in;
-    char tag[3];
-    const char *product;
-} emu_polhemus_t;
-static const emu_polhemus_t EMU_PATRIOT = {0xef12, 0x02, 0x82, "PA", "Patriot (emulated)"};
-/* VRPN's Latus/Liberty HS code reads 'LU' records from EP 0x88. */
-static const emu_polhemus_t EMU_LIBERTY_HS = {0xff20, 0x04, 0x88, "LU", "Liberty HS (emulated)"};
-
-/* What the emulated devices do once their trace (or limit) runs out. */
-typedef enum { AFTER_END_SILENT, AFTER_END_DISCONNECT } after_end_t;
-
-/* Calibrated screen of the emulated eye tracker: 527.04 x 296.46 mm, the
- * same numbers as the device in tracker-devices.md §4.3. */
-#define CAL_W_UM 527040
-#define CAL_H_UM 296460
-#define EMU_RATE_HZ 250
-
-typedef struct {
-    pthread_mutex_t mu;
-    const emu_polhemus_t *kind;
-    const trace_t *trace;
-    size_t limit;              /* frames/reports served before after_end */
-    after_end_t after_end;
-    /* Polhemus faults: frames whose transfer is garbled (tag 'XX'), and
-     * frames whose hand record carries the error indicator 'E' */
-    size_t garble_every, hand_error_frame;
-    /* Polhemus */
-    bool configured, disconnected;
-    char cmdlog[256];
-    size_t frames_sent;
-    uint8_t pending[512];
-    size_t pending_len;
-    bool has_pending;
-    UMockdevIoctlData *flying[MAX_URBS];
-    int n_flying;
-    UMockdevIoctlData *reapable[MAX_URBS];
-    int n_reapable;
-    int discards;
-    /* HID */
-    bool features_read;
-} emu_t;
-
-static void emu_init(emu_t *e, const emu_polhemus_t *kind, const trace_t *t, size_t limit,
-                     after_end_t after)
-{
-    memset(e, 0, sizeof *e);
-    e->kind = kind;
-    pthread_mutex_init(&e->mu, NULL);
-    e->trace = t;
-    e->limit = limit;
-    e->after_end = after;
-}
-
-static void emu_free(emu_t *e)
-{
-    for (int i = 0; i < e->n_flying; i++)
-        g_object_unref(e->flying[i]);
-    for (int i = 0; i < e->n_reapable; i++)
-        g_object_unref(e->reapable[i]);
-    pthread_mutex_destroy(&e->mu);
-}
-
-/* ---- emulated Polhemus Patriot ---- */
-
-static size_t put_f32(uint8_t *p, double v)
-{
-    float f = (float)v;
-    uint32_t u;
-    memcpy(&u, &f, 4);
-    for (int i = 0; i < 4; i++)
-        p[i] = (uint8_t)(u >> (8 * i));
-    return 4;
-}
-
-/* One 'PA' record (tracker-devices.md §2.3) for output list O*,2,4,1. */
-static size_t patriot_record(uint8_t *p, const char *tag, uint8_t station,
-                             const gaze_pose_t *pose)
-{
-    size_t n = 0;
-    p[n++] = (uint8_t)tag[0];
-    p[n++] = (uint8_t)tag[1];
-    p[n++] = station;
-    p[n++] = 'P';
-    p[n++] = 0;
-    p[n++] = 0;
-    p[n++] = 26;
-    p[n++] = 0;
-    for (int i = 0; i < 3; i++)
-        n += put_f32(p + n, pose->pos_mm[i] / 10.0); /* the device speaks cm (U1) */
-    n += put_f32(p + n, pose->azimuth_deg);
-    n += put_f32(p + n, pose->elevation_deg);
-    n += put_f32(p + n, pose->roll_deg);
-    p[n++] = '\r';
-    p[n++] = '\n';
-    return n;
-}
-
-static void patriot_command(emu_t *e, const uint8_t *cmd, size_t len)
-{
-    if (len == 1 && cmd[0] == 'P') {
-        if (!e->configured) {
-            /* before F1 the device answers in ASCII: pp5 must drain it */
-            static const char ascii[] = "  1  10.00  -2.50  30.25   5.00 -10.00   0.50\r\n";
-            memcpy(e->pending, ascii, sizeof ascii - 1);
-            e->pending_len = sizeof ascii - 1;
-            e->has_pending = true;
-            return;
-        }
-        if (e->frames_sent >= e->limit) {
-            if (e->after_end == AFTER_END_DISCONNECT)
-                e->disconnected = true;
-            return; /* silent: the IN transfer will time out */
-        }
-        size_t frame = e->frames_sent++;
-        const gaze_sample_t *s = &e->trace->samples[frame];
-        size_t n = patriot_record(e->pending, e->kind->tag, 1, &s->head);
-        n += patriot_record(e->pending + n, e->kind->tag, 2, &s->hand);
-        if (e->garble_every && frame % e->garble_every == e->garble_every - 1)
-            e->pending[0] = e->pending[1] = 'X';
-        if (e->hand_error_frame && frame == e->hand_error_frame)
-            e->pending[34 + 4] = 'E'; /* error byte of the second record */
-        e->pending_len = n;
-        e->has_pending = true;
-        return;
-    }
-    size_t used = strlen(e->cmdlog);
-    if (used + len + 2 < sizeof e->cmdlog) {
-        memcpy(e->cmdlog + used, cmd, len);
-        e->cmdlog[used + len] = '|';
-        e->cmdlog[used + len + 1] = '\0';
-    }
-    if (len == 9 && memcmp(cmd, "O*,2,4,1\r", 9) == 0)
-        e->configured = true;
-}
-
-static gboolean usb_ioctl(UMockdevIoctlBase *handler, UMockdevIoctlClient *client, gpointer user)
-{
-    (void)handler;
-    emu_t *e = user;
-    gulong req = umockdev_ioctl_client_get_request(client);
-    UMockdevIoctlData *arg = umockdev_ioctl_client_get_arg(client);
-    GError *err = NULL;
-    pthread_mutex_lock(&e->mu);
-    switch (req) {
-    case USBDEVFS_GET_CAPABILITIES: {
-        UMockdevIoctlData *d = umockdev_ioctl_data_resolve(arg, 0, sizeof(guint32), &err);
-        if (d) {
-            *(guint32 *)d->data = USBDEVFS_CAP_NO_PACKET_SIZE_LIM | USBDEVFS_CAP_ZERO_PACKET |
-                                  USBDEVFS_CAP_BULK_CONTINUATION;
-            umockdev_ioctl_client_complete(client, 0, 0);
-            g_object_unref(d);
-        } else {
-            umockdev_ioctl_client_complete(client, -1, EFAULT);
-        }
-        break;
-    }
-    case USBDEVFS_CLAIMINTERFACE:
-    case USBDEVFS_RELEASEINTERFACE:
-    case USBDEVFS_CLEAR_HALT:
-    case USBDEVFS_RESET:
-    case USBDEVFS_RESETEP:
-        umockdev_ioctl_client_complete(client, e->disconnected ? -1 : 0,
-                                       e->disconnected ? ENODEV : 0);
-        break;
-    case USBDEVFS_SUBMITURB: {
-        if (e->disconnected) {
-            umockdev_ioctl_client_complete(client, -1, ENODEV);
-            break;
-        }
-        UMockdevIoctlData *ud = umockdev_ioctl_data_resolve(arg, 0, sizeof(struct usbdevfs_urb), &err);
-        if (!ud) {
-            umockdev_ioctl_client_complete(client, -1, EFAULT);
-            break;
-        }
-        struct usbdevfs_urb *urb = (struct usbdevfs_urb *)ud->data;
-        UMockdevIoctlData *bd = umockdev_ioctl_data_resolve(
-            ud, offsetof(struct usbdevfs_urb, buffer), (gsize)urb->buffer_length, &err);
-        if (!bd || urb->type != USBDEVFS_URB_TYPE_BULK ||
-            (urb->endpoint != e->kind->ep_out && urb->endpoint != e->kind->ep_in) ||
-            e->n_flying == MAX_URBS || e->n_reapable == MAX_URBS) {
-            umockdev_ioctl_client_complete(client, -1, EINVAL);
-            if (bd)
-                g_object_unref(bd);
-            g_object_unref(ud);
-            break;
-        }
-        if (urb->endpoint == e->kind->ep_out) {
-            patriot_command(e, bd->data, (size_t)urb->buffer_length);
-            urb->actual_length = urb->buffer_length;
-            urb->status = 0;
-            e->reapable[e->n_reapable++] = ud;
-        } else if (e->has_pending && (size_t)urb->buffer_length >= e->pending_len) {
-            memcpy(bd->data, e->pending, e->pending_len);
-            urb->actual_length = (int)e->pending_len;
-            urb->status = 0;
-            e->has_pending = false;
-            e->reapable[e->n_reapable++] = ud;
-        } else {
-            e->flying[e->n_flying++] = ud; /* completes only if discarded */
-        }
-        g_object_unref(bd);
-        umockdev_ioctl_client_complete(client, 0, 0);
-        break;
-    }
-    case USBDEVFS_REAPURB:
-    case USBDEVFS_REAPURBNDELAY: {
-        if (e->n_reapable == 0) {
-            umockdev_ioctl_client_complete(client, -1, e->disconnected ? ENODEV : EAGAIN);
-            break;
-        }
-        UMockdevIoctlData *ud = e->reapable[0];
-        memmove(e->reapable, e->reapable + 1, sizeof e->reapable[0] * (size_t)--e->n_reapable);
-        UMockdevIoctlData *pd = umockdev_ioctl_data_resolve(arg, 0, sizeof(void *), &err);
-        if (!pd) {
-            umockdev_ioctl_client_complete(client, -1, EFAULT);
-            g_object_unref(ud);
-            break;
-        }
-        umockdev_ioctl_data_set_ptr(pd, 0, ud);
-        umockdev_ioctl_client_complete(client, 0, 0);
-        g_object_unref(pd);
-        g_object_unref(ud);
-        break;
-    }
-    case USBDEVFS_DISCARDURB: {
-        gulong addr = *(gulong *)arg->data;
-        int found = -1;
-        for (int i = 0; i < e->n_flying; i++)
-            if (e->flying[i]->client_addr == addr)
-                found = i;
-        if (found < 0) {
-            umockdev_ioctl_client_complete(client, -1, EINVAL);
-            break;
-        }
-        UMockdevIoctlData *ud = e->flying[found];
-        memmove(e->flying + found, e->flying + found + 1,
-                sizeof e->flying[0] * (size_t)(e->n_flying - found - 1));
-        e->n_flying--;
-        struct usbdevfs_urb *urb = (struct usbdevfs_urb *)ud->data;
-        urb->status = -ENOENT; /* what usbfs reports for a killed URB */
-        urb->actual_length = 0;
-        e->reapable[e->n_reapable++] = ud;
-        e->discards++;
-        umockdev_ioctl_client_complete(client, 0, 0);
-        break;
-    }
-    default:
-        umockdev_ioctl_client_complete(client, -1, ENOTTY);
-        break;
-    }
-    pthread_mutex_unlock(&e->mu);
-    if (err)
-        g_error_free(err);
-    return TRUE;
-}
-
-/* ---- emulated HID eye tracker: feature reports by ioctl ---- */
-
-static void le32(uint8_t *p, int32_t v)
-{
-    for (int i = 0; i < 4; i++)
-        p[i] = (uint8_t)((uint32_t)v >> (8 * i));
-}
-
-static size_t feature_report(uint8_t id, uint8_t *out)
-{
-    memset(out, 0, 32);
-    out[0] = id;
-    switch (id) {
-    case 0x11: /* Capabilities: quality 1; distances; max screen */
-        out[1] = 1;
-        le32(out + 2, 450000);
-        le32(out + 6, 650000);
-        le32(out + 10, 950000);
-        le32(out + 14, 600000);
-        le32(out + 18, 340000);
-        return 22;
-    case 0x12: /* Configuration: display ids, serial, date, calibrated size */
-        out[1] = 0xac, out[2] = 0x10, out[3] = 0xb1, out[4] = 0xa0;
-        le32(out + 5, 12345678);
-        out[9] = 0xe1, out[10] = 0x07;
-        le32(out + 11, CAL_W_UM);
-        le32(out + 15, CAL_H_UM);
-        return 19;
-    case 0x13: /* Status: ready, EMU_RATE_HZ */
-        out[1] = 1;
-        out[2] = EMU_RATE_HZ & 0xff;
-        out[3] = EMU_RATE_HZ >> 8;
-        return 4;
-    default:
-        return 0;
-    }
-}
-
-static gboolean hid_ioctl(UMockdevIoctlBase *handler, UMockdevIoctlClient *client, gpointer user)
-{
-    (void)handler;
-    emu_t *e = user;
-    gulong req = umockdev_ioctl_client_get_request(client);
-    UMockdevIoctlData *arg = umockdev_ioctl_client_get_arg(client);
-    GError *err = NULL;
-    UMockdevIoctlData *d = NULL;
-    if (req == HIDIOCGRDESCSIZE) {
-        d = umockdev_ioctl_data_resolve(arg, 0, sizeof(int), &err);
-        if (d)
-            *(int *)d->data = (int)sizeof pp5_fixture_eye_desc;
-        umockdev_ioctl_client_complete(client, d ? 0 : -1, d ? 0 : EFAULT);
-    } else if (req == HIDIOCGRDESC) {
-        d = umockdev_ioctl_data_resolve(arg, 0, sizeof(struct hidraw_report_descriptor), &err);
-        if (d) {
-            struct hidraw_report_descriptor *rd = (struct hidraw_report_descriptor *)d->data;
-            rd->size = sizeof pp5_fixture_eye_desc;
-            memcpy(rd->value, pp5_fixture_eye_desc, sizeof pp5_fixture_eye_desc);
-        }
-        umockdev_ioctl_client_complete(client, d ? 0 : -1, d ? 0 : EFAULT);
-    } else if (req == HIDIOCGRAWINFO) {
-        d = umockdev_ioctl_data_resolve(arg, 0, sizeof(struct hidraw_devinfo), &err);
-        if (d) {
-            struct hidraw_devinfo *info = (struct hidraw_devinfo *)d->data;
-            info->bustype = 3; /* BUS_USB */
-            info->vendor = 0x1209;
-            info->product = 0x0001;
-        }
-        umockdev_ioctl_client_complete(client, d ? 0 : -1, d ? 0 : EFAULT);
-    } else if (_IOC_TYPE(req) == 'H' && _IOC_NR(req) == _IOC_NR(HIDIOCGFEATURE(0))) {
-        size_t len = _IOC_SIZE(req);
-        d = len ? umockdev_ioctl_data_resolve(arg, 0, len, &err) : NULL;
-        uint8_t rep[32];
-        size_t n = d ? feature_report(d->data[0], rep) : 0;
-        if (n == 0 || n > len) {
-            umockdev_ioctl_client_complete(client, -1, EINVAL);
-        } else {
-            memcpy(d->data, rep, n);
-            pthread_mutex_lock(&e->mu);
-            if (rep[0] == 0x12)
-                e->features_read = true;
-            pthread_mutex_unlock(&e->mu);
-            umockdev_ioctl_client_complete(client, (glong)n, 0);
-        }
-    } else {
-        umockdev_ioctl_client_complete(client, -1, ENOTTY);
-    }
-    if (d)
-        g_object_unref(d);
-    if (err)
-        g_error_free(err);
-    return TRUE;
-}
-
-/* A 65-byte Tracking Data report (tracker-devices.md §1.2) for sample s:
- * pixels on a 1920x1080 screen back to micrometres on the calibrated area;
- * no gaze is sent as an out-of-range value (HID null). */
-static void tracking_report(uint8_t r[65], const gaze_sample_t *s, uint8_t id)
-{
-    memset(r, 0, 65);
-    r[0] = id;
-    uint64_t t_us = 1000000u + (uint64_t)(s->t_ns / 1000);
-    for (int i = 0; i < 8; i++)
-        r[1 + i] = (uint8_t)(t_us >> (8 * i));
-    bool valid = (s->flags & GAZE_FLAG_VALID) != 0;
-    le32(r + 9, valid ? (int32_t)lround(s->x_px / 1920.0 * CAL_W_UM) : 2000001);
-    le32(r + 13, valid ? (int32_t)lround(s->y_px / 1080.0 * CAL_H_UM) : 2000001);
-}
-
-/* ---- the testbed ---- */
-
-typedef struct {
-    UMockdevTestbed *tb;
-    UMockdevIoctlBase *usb, *hid;
-    emu_t emu;
-    int hid_master;
-} bed_t;
-
-static char *hex_of(const uint8_t *b, size_t n)
-{
-    char *s = malloc(2 * n + 1);
-    for (size_t i = 0; i < n; i++)
-        sprintf(s + 2 * i, "%02x", b[i]);
-    return s;
-}
-
-/* The sysfs/udev description of both emulated devices, in umockdev's
- * record format (g_free the result).  Also written out for the
- * umockdev-run test and shipped as tests/fixtures/devices/trackers.umockdev. */
-static char *trackers_umockdev_text(const emu_polhemus_t *k)
-{
-    /* USB descriptors: device + configuration, written by hand.
-     * Polhemus 0f44:PID: interface 0 vendor class, two bulk endpoints. */
-    const uint8_t patriot_desc[] = {
-        0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x44, 0x0f,
-        (uint8_t)(k->pid & 0xff), (uint8_t)(k->pid >> 8), 0x00, 0x01, 0x01, 0x02, 0x00, 0x01,
-        0x09, 0x02, 0x20, 0x00, 0x01, 0x01, 0x00, 0x80, 0x32,
-        0x09, 0x04, 0x00, 0x00, 0x02, 0xff, 0x00, 0x00, 0x00,
-        0x07, 0x05, k->ep_out, 0x02, 0x40, 0x00, 0x00,
-        0x07, 0x05, k->ep_in, 0x02, 0x40, 0x00, 0x00,
-    };
-    /* Eye tracker 1209:0001 (pid.codes test id): one HID interface. */
-    uint16_t rlen = (uint16_t)sizeof pp5_fixture_eye_desc;
-    const uint8_t eye_desc[] = {
-        0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x09, 0x12, 0x01, 0x00, 0x00, 0x01,
-        0x01, 0x02, 0x03, 0x01,
-        0x09, 0x02, 0x22, 0x00, 0x01, 0x01, 0x00, 0x80, 0x32,
-        0x09, 0x04, 0x00, 0x00, 0x01, 0x03, 0x00, 0x00, 0x00,
-        0x09, 0x21, 0x11, 0x01, 0x00, 0x01, 0x22, (uint8_t)(rlen & 0xff), (uint8_t)(rlen >> 8),
-        0x07, 0x05, 0x81, 0x03, 0x40, 0x00, 0x01,
-    };
-    char *pat_hex = hex_of(patriot_desc, sizeof patriot_desc);
-    char *eye_hex = hex_of(eye_desc, sizeof eye_desc);
-    char *rd_hex = hex_of(pp5_fixture_eye_desc, sizeof pp5_fixture_eye_desc);
-    const char *usb = "/devices/pci0000:00/0000:00:14.0/usb1";
-    char *text = g_strdup_printf(
-        "P: %s/1-2\nN: bus/usb/001/002\nE: DEVNAME=/dev/bus/usb/001/002\nE: DEVTYPE=usb_device\n"
-        "E: DRIVER=usb\nE: SUBSYSTEM=usb\nE: BUSNUM=001\nE: DEVNUM=002\nE: PRODUCT=f44/%x/100\n"
-        "A: busnum=1\\n\nA: devnum=2\\n\nA: idVendor=0f44\\n\nA: idProduct=%04x\\n\n"
-        "A: bConfigurationValue=1\\n\nA: speed=12\\n\nA: manufacturer=Polhemus\\n\n"
-        "A: product=%s\\n\nH: descriptors=%s\n\n"
-
-        "P: %s/1-3/1-3:1.0/0003:1209:0001.0001/hidraw/hidraw0\nN: hidraw0\n"
-        "E: DEVNAME=/dev/hidraw0\nE: SUBSYSTEM=hidraw\nA: dev=240:0\\n\n"
-        "L: device=../../../0003:1209:0001.0001\n\n"
-
-        "P: %s/1-3/1-3:1.0/0003:1209:0001.0001\nE: DRIVER=hid-generic\n"
-        "E: HID_ID=0003:00001209:00000001\nE: HID_NAME=pp5 emulated HUTRR74 eye tracker\n"
-        "E: HID_PHYS=usb-0000:00:14.0-3/input0\nE: HID_UNIQ=ET0001\nE: SUBSYSTEM=hid\n"
-        "H: report_descriptor=%s\n\n"
-
-        "P: %s/1-3/1-3:1.0\nE: DEVTYPE=usb_interface\nE: DRIVER=usbhid\nE: SUBSYSTEM=usb\n"
-        "E: INTERFACE=3/0/0\nA: bInterfaceNumber=00\\n\nA: bInterfaceClass=03\\n\n\n"
-
-        "P: %s/1-3\nN: bus/usb/001/003\nE: DEVNAME=/dev/bus/usb/001/003\nE: DEVTYPE=usb_device\n"
-        "E: DRIVER=usb\nE: SUBSYSTEM=usb\nE: BUSNUM=001\nE: DEVNUM=003\nE: PRODUCT=1209/1/100\n"
-        "A: busnum=1\\n\nA: devnum=3\\n\nA: idVendor=1209\\n\nA: idProduct=0001\\n\n"
-        "A: bConfigurationValue=1\\n\nA: speed=12\\n\nA: manufacturer=pp5 tests\\n\n"
-        "A: product=Emulated eye tracker\\n\nA: serial=ET0001\\n\nH: descriptors=%s\n",
-        usb, (unsigned)k->pid, (unsigned)k->pid, k->product, pat_hex, usb, usb, rd_hex, usb, usb,
-        eye_hex);
-    free(pat_hex);
-    free(eye_hex);
-    free(rd_hex);
-    return text;
-}
-
-static bool bed_open(bed_t *b, const emu_polhemus_t *kind, const trace_t *t, size_t limit,
-                     after_end_t after)
-{
-    memset(b, 0, sizeof *b);
-    b->hid_master = -1;
-    emu_init(&b->emu, kind, t, limit, after);
-    b->tb = umockdev_testbed_new();
-    if (!b->tb)
-        return false;
-    b->usb = umockdev_ioctl_base_new();
-    b->hid = umockdev_ioctl_base_new();
-    g_signal_connect(b->usb, "handle-ioctl", G_CALLBACK(usb_ioctl), &b->emu);
-    g_signal_connect(b->hid, "handle-ioctl", G_CALLBACK(hid_ioctl), &b->emu);
-    /* handlers first, then the devices (as libusb's own umockdev test) */
-    GError *err = NULL;
-    if (!umockdev_testbed_attach_ioctl(b->tb, "/dev/bus/usb/001/002", b->usb, &err) ||
-        !umockdev_testbed_attach_ioctl(b->tb, "/dev/hidraw0", b->hid, &err)) {
-        fprintf(stderr, "    attach_ioctl: %s\n", err ? err->message : "?");
-        return false;
-    }
-    char *text = trackers_umockdev_text(kind);
-    bool ok = umockdev_testbed_add_from_string(b->tb, text, &err);
-    if (!ok)
-        fprintf(stderr, "    add_from_string: %s\n", err ? err->message : "?");
-    g_free(text);
-    if (err)
-        g_error_free(err);
-    if (!ok)
-        return false;
-    b->hid_master = umockdev_testbed_get_dev_fd(b->tb, "/dev/hidraw0");
-    if (b->hid_master >= 0) {
-        /* children must not inherit the master side: if they did, closing
-         * it here (the disconnect test) would not hang up the pty */
-        fcntl(b->hid_master, F_SETFD, FD_CLOEXEC);
-        /* raw bytes: no echo, no line editing, no CR/NL mapping */
-        struct termios tio;
-        if (tcgetattr(b->hid_master, &tio) == 0) {
-            cfmakeraw(&tio);
-            tcsetattr(b->hid_master, TCSANOW, &tio);
-        }
-    }
-    return b->hid_master >= 0;
-}
-
-static void bed_close(bed_t *b)
-{
-    if (b->tb)
-        g_object_unref(b->tb);
-    if (b->usb)
-        g_object_unref(b->usb);
-    if (b->hid)
-        g_object_unref(b->hid);
-    emu_free(&b->emu);
-    unsetenv("UMOCKDEV_DIR");
-}
-
-/* ---- running ./pp5 under the preload library ---- */
-
-typedef struct {
-    pid_t pid;
-    bool reaped;
-    int code;               /* exit code or 128 + signal, once reaped */
-    char out[512], err[512];
-} child_t;
-
-/* Runs `CMD_PREFIX pp5 ARGS` in the background; with `preload`, the child
- * gets umockdev's preload library (the testbed route); without, the prefix
- * is expected to be umockdev-run, which sets it itself. */
-static bool child_start_cmd(child_t *c, const char *dir, const char *prefix, const char *args,
-                            bool preload);
-
-static bool child_start(child_t *c, const char *dir, const char *args)
-{
-    return child_start_cmd(c, dir, "", args, true);
-}
-
-static bool child_start_cmd(child_t *c, const char *dir, const char *prefix, const char *args,
-                            bool preload)
-{
-    const char *bin = getenv("PP5_BIN");
-    if (!bin || !*bin)
-        bin = "./pp5";
-    c->reaped = false;
-    snprintf(c->out, sizeof c->out, "%s/stdout.txt", dir);
-    snprintf(c->err, sizeof c->err, "%s/stderr.txt", dir);
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "exec %s %s %s >%s 2>%s </dev/null", prefix, bin, args, c->out,
-             c->err);
-    c->pid = fork();
-    if (c->pid < 0)
-        return false;
-    if (c->pid == 0) {
-        /* umockdev's preload must come into the child only; a sanitised
-         * pp5 wants its runtime first in the library list, which LD_PRELOAD
-         * breaks, so that check is switched off for the child. */
-        if (preload)
-            setenv("LD_PRELOAD", "libumockdev-preload.so.0", 1);
-        const char *asan = getenv("ASAN_OPTIONS");
-        char opts[512];
-        snprintf(opts, sizeof opts, "%s%sverify_asan_link_order=0", asan ? asan : "",
-                 asan && *asan ? ":" : "");
-        setenv("ASAN_OPTIONS", opts, 1);
-        execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-        _exit(127);
-    }
-    return true;
-}
-
-/* Waits (bounded) for the child; returns its exit code, 128+signal, or -1
- * when it had to be killed. */
-static bool child_poll(child_t *c)
-{
-    int status;
-    if (!c->reaped && waitpid(c->pid, &status, WNOHANG) == c->pid) {
-        c->reaped = true;
-        c->code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    }
-    return c->reaped;
-}
-
-static int child_wait(child_t *c, double seconds)
-{
-    struct timespec t0, now;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    for (;;) {
-        int status;
-        if (child_poll(c))
-            return c->code;
-        clock_gettime(CLOCK_MONOTONIC, &now);
-        if ((double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec) > seconds) {
-            kill(c->pid, SIGKILL);
-            waitpid(c->pid, &status, 0);
-            return -1;
-        }
-        usleep(5000);
-    }
-}
-
-static bool child_running(child_t *c)
-{
-    return !child_poll(c);
-}
-
-static void sleep_ms(int ms)
-{
-    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
-    nanosleep(&ts, NULL);
-}
-
-/* Waits until the child has read the eye tracker's Configuration report
- * (so it has opened the device), bounded. */
-static bool wait_features(bed_t *b, child_t *c)
-{
-    for (int i = 0; i < CHILD_DEADLINE_S * 100; i++) {
-        pthread_mutex_lock(&b->emu.mu);
-        bool done = b->emu.features_read;
-        pthread_mutex_unlock(&b->emu.mu);
-        if (done)
-            return true;
-        sleep_ms(10);
-    }
-    return false;
-}
-
-static bool write_all(int fd, const uint8_t *p, size_t n)
-{
-    int stalls = 0;
-    while (n > 0) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w < 0 && errno == EAGAIN && stalls++ < CHILD_DEADLINE_S * 1000) {
-            sleep_ms(1); /* pty buffer full: the child has not read yet */
-            continue;
-        }
-        if (w <= 0)
-            return false;
-        p += w;
-        n -= (size_t)w;
-    }
-    return true;
-}
-
-static void show_stderr(const child_t *c)
-{
-    char *e = pp5_test_read_file(c->err);
-    printf("    pp5 stderr: %s", e && *e ? e : "(empty)\n");
-    free(e);
-}
-
-/* ---- the input traces (written to disk and read back: fed from files) ---- */
-
-static void make_trace(const char *path, size_t n, bool poses, trace_t *out)
-{
-    trace_t t;
-    trace_init(&t);
-    snprintf(t.header.source, sizeof t.header.source, "test_track_umockdev");
-    t.header.sample_rate_hz = EMU_RATE_HZ;
-    t.header.geometry = (gaze_geometry_t){1920, 1080, 527.04, 296.46, 650, 0};
-    t.has_head = t.has_hand = poses;
-    for (size_t i = 0; i < n; i++) {
-        gaze_sample_t s;
-        gaze_sample_invalid(&s, (int64_t)i * 4000000); /* 250 Hz */
-        if (i % 9 != 4) { /* every 9th sample (from the 5th) has no gaze */
-            s.flags = GAZE_FLAG_VALID;
-            /* sweeps that stay within the device's +-2 m logical range */
-            s.x_px = 100.0 + fmod(37.5 * (double)i, 1700.0);
-            s.y_px = 900.0 - fmod(21.25 * (double)i, 800.0);
-        }
-        if (poses) {
-            /* values exact in float32 after mm -> cm */
-            s.flags |= GAZE_FLAG_HEAD | GAZE_FLAG_HAND;
-            s.head = (gaze_pose_t){{100.0 + (double)i, -25.0, 302.5}, 5.0 + (double)i, -10.0, 0.5};
-            s.hand = (gaze_pose_t){{350.0, 120.0 - 2.0 * (double)i, 200.0}, 90.0, 0.0, -45.0};
-        }
-        REQUIRE(trace_append(&t, &s) == PP5_OK);
-    }
-    REQUIRE_MSG(trace_write_file(path, &t) == PP5_OK, "%s", pp5_error_text());
-    trace_free(&t);
-    REQUIRE_MSG(trace_read_file(path, out) == PP5_OK, "%s", pp5_error_text());
-}
-
-static void check_gaze_prefix(const trace_t *got, const trace_t *want, size_t n)
-{
-    REQUIRE(got->count >= n && want->count >= n);
-    int bad = 0;
-    for (size_t i = 0; i < n; i++) {
-        const gaze_sample_t *g = &got->samples[i], *w = &want->samples[i];
-        bool gv = (g->flags & GAZE_FLAG_VALID) != 0, wv = (w->flags & GAZE_FLAG_VALID) != 0;
-        if (g->t_ns != w->t_ns || gv != wv) {
-            if (bad++ == 0)
-                printf("    first difference at sample %zu: t %lld vs %lld ns, valid %d vs %d\n", i,
-                       (long long)g->t_ns, (long long)w->t_ns, gv, wv);
-        }
-        /* integer micrometres on a 527 mm area: under 0.002 px of rounding */
-        else if (wv && (fabs(g->x_px - w->x_px) > 0.01 || fabs(g->y_px - w->y_px) > 0.01))
-            bad++;
-    }
-    CHECK_MSG(bad == 0, "%d of %zu samples differ from the trace fed to the device", bad, n);
-}
-
-static void check_pose_prefix(const trace_t *got, const trace_t *want, size_t n)
-{
-    REQUIRE(got->count >= n && want->count >= n);
-    REQUIRE(got->has_head && got->has_hand);
-    int bad = 0;
-    for (size_t i = 0; i < n; i++) {
-        const gaze_sample_t *g = &got->samples[i], *w = &want->samples[i];
-        if (!(g->flags & GAZE_FLAG_HEAD) || !(g->flags & GAZE_FLAG_HAND)) {
-            bad++;
-            continue;
-        }
-        for (int k = 0; k < 3; k++)
-            if (fabs(g->head.pos_mm[k] - w->head.pos_mm[k]) > 1e-3 ||
-                fabs(g->hand.pos_mm[k] - w->hand.pos_mm[k]) > 1e-3)
-                bad++;
-        if (fabs(g->head.azimuth_deg - w->head.azimuth_deg) > 1e-4 ||
-            fabs(g->hand.roll_deg - w->hand.roll_deg) > 1e-4 ||
-            fabs(g->head.elevation_deg - w->head.elevation_deg) > 1e-4)
-            bad++;
-    }
-    CHECK_MSG(bad == 0, "%d pose values differ from the trace fed to the device", bad);
-    for (size_t i = 1; i < got->count; i++)
-        CHECK(got->samples[i].t_ns >= got->samples[i - 1].t_ns);
-}
-
-static bool file_contains(const char *path, const char *needle)
-{
-    char *s = pp5_test_read_file(path);
-    bool ok = s && strstr(s, needle);
-    free(s);
-    return ok;
-}
-
-/* umockdev's preload library must load into the child; without it the
- * devices would simply be absent and every test would fail for a reason
- * that is not pp5's.  Checked once with a throw-away child. */
-static int preload_state; /* 0 unknown, 1 loads, -1 missing */
-
-static bool preload_available(void)
-{
-    if (preload_state == 0) {
-        FILE *p = popen("LD_PRELOAD=libumockdev-preload.so.0 /bin/true 2>&1", "r");
-        char buf[256] = "";
-        size_t n = p ? fread(buf, 1, sizeof buf - 1, p) : 0;
-        buf[n] = '\0';
-        int rc = p ? pclose(p) : -1;
-        preload_state = (rc == 0 && !strstr(buf, "cannot be preloaded")) ? 1 : -1;
-    }
-    return preload_state == 1;
-}
-
-#define BED_OR_FAIL(b, trace, limit, after)                                              \
-    do {                                                                                 \
-        if (!preload_available())                                                        \
-            SKIP("UMOCKDEV PRELOAD LIBRARY (libumockdev-preload.so.0) MISSING: the "      \
-                 "device integration tests did not run (apt-get install umockdev)");      \
-        if (!bed_open(b, &EMU_PATRIOT, trace, limit, after)) {                                         \
-            bed_close(b);                                                                \
-            REQUIRE_MSG(false, "umockdev testbed could not be set up");                  \
-        }                                                                                \
-    } while (0)
-
-/* ---- tests ---- */
+#include "emu/util/status.h"
+#include "umockdev_bed.h"
 
 TEST(track_umockdev_list_finds_both_emulated_devices)
 {
     bed_t b;
     BED_OR_FAIL(&b, NULL, 0, AFTER_END_SILENT);
     child_t c;
-    REQUIRE(child_start(&c, pp5_test_outdir(), "track list"));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
+    REQUIRE(umd_child_start(&c, pp5_test_outdir(), "track list"));
+    int rc = umd_child_wait(&c, CHILD_DEADLINE_S);
+    umd_bed_close(&b);
     CHECK_MSG(rc == 0, "pp5 track list exited %d", rc);
     char *out = pp5_test_read_file(c.out);
     REQUIRE(out);
@@ -828,7 +62,7 @@ TEST(track_umockdev_polhemus_record_matches_the_trace)
     char in[600], outp[600], args[1400];
     snprintf(in, sizeof in, "%s/poses-in.trace", dir);
     trace_t want;
-    make_trace(in, 30, true, &want);
+    umd_make_trace(in, 30, true, &want);
     bed_t b;
     BED_OR_FAIL(&b, &want, 30, AFTER_END_SILENT);
     child_t c;
@@ -836,16 +70,16 @@ TEST(track_umockdev_polhemus_record_matches_the_trace)
     snprintf(args, sizeof args,
              "track record --device polhemus --out %s --max-samples 30 --rate 500 --timeout-ms 2000",
              outp);
-    REQUIRE(child_start(&c, dir, args));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
+    REQUIRE(umd_child_start(&c, dir, args));
+    int rc = umd_child_wait(&c, CHILD_DEADLINE_S);
     char cmdlog[256];
     pthread_mutex_lock(&b.emu.mu);
     snprintf(cmdlog, sizeof cmdlog, "%s", b.emu.cmdlog);
     int discards = b.emu.discards;
     pthread_mutex_unlock(&b.emu.mu);
-    bed_close(&b);
+    umd_bed_close(&b);
     if (rc != 0)
-        show_stderr(&c);
+        umd_show_stderr(&c);
     CHECK_MSG(rc == 0, "pp5 track record exited %d (-1: hang, killed)", rc);
     /* the init sequence of tracker-devices.md §2.4, in order */
     CHECK_MSG(strcmp(cmdlog, "U1\r|F1\r|O*,2,4,1\r|") == 0, "commands seen: '%s'", cmdlog);
@@ -855,7 +89,7 @@ TEST(track_umockdev_polhemus_record_matches_the_trace)
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
     CHECK(got.complete);
     CHECK_EQ(got.count, 30);
-    check_pose_prefix(&got, &want, 30);
+    umd_check_pose_prefix(&got, &want, 30);
     trace_free(&got);
     trace_free(&want);
 }
@@ -867,139 +101,32 @@ TEST(track_umockdev_liberty_hs_endpoints_and_lu_records)
     char in[600], outp[600], args[1400];
     snprintf(in, sizeof in, "%s/poses-in-hs.trace", dir);
     trace_t want;
-    make_trace(in, 12, true, &want);
+    umd_make_trace(in, 12, true, &want);
     bed_t b;
-    if (!preload_available())
+    if (!umd_preload_available())
         SKIP("UMOCKDEV PRELOAD LIBRARY (libumockdev-preload.so.0) MISSING: the device "
              "integration tests did not run (apt-get install umockdev)");
-    if (!bed_open(&b, &EMU_LIBERTY_HS, &want, 12, AFTER_END_SILENT)) {
-        bed_close(&b);
+    if (!umd_bed_open(&b, &EMU_LIBERTY_HS, &want, 12, AFTER_END_SILENT)) {
+        umd_bed_close(&b);
         REQUIRE_MSG(false, "umockdev testbed could not be set up");
     }
     child_t c;
     snprintf(outp, sizeof outp, "%s/hs-out.trace", dir);
     snprintf(args, sizeof args, "track record --device polhemus:1:2 --out %s --max-samples 12 "
              "--rate 500 --timeout-ms 2000", outp);
-    REQUIRE(child_start(&c, dir, args));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
+    REQUIRE(umd_child_start(&c, dir, args));
+    int rc = umd_child_wait(&c, CHILD_DEADLINE_S);
+    umd_bed_close(&b);
     if (rc != 0)
-        show_stderr(&c);
+        umd_show_stderr(&c);
     CHECK_MSG(rc == 0, "pp5 exited %d (-1: hang, killed)", rc);
-    CHECK(file_contains(c.err, "Liberty HS"));
+    CHECK(umd_file_contains(c.err, "Liberty HS"));
     trace_t got;
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
     CHECK_EQ(got.count, 12);
-    check_pose_prefix(&got, &want, 12);
+    umd_check_pose_prefix(&got, &want, 12);
     trace_free(&got);
     trace_free(&want);
-}
-
-static void polhemus_failure(after_end_t after, const char *needle)
-{
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], args[1400];
-    snprintf(in, sizeof in, "%s/poses-in-%d.trace", dir, (int)after);
-    trace_t want;
-    make_trace(in, 30, true, &want);
-    bed_t b;
-    BED_OR_FAIL(&b, &want, 10, after);
-    child_t c;
-    snprintf(outp, sizeof outp, "%s/polhemus-fail-%d.trace", dir, (int)after);
-    snprintf(args, sizeof args,
-             "track record --device polhemus --out %s --rate 500 --timeout-ms 1000 --flush-every 100",
-             outp);
-    REQUIRE(child_start(&c, dir, args));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
-    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
-              rc, PP5_EXIT_DEVICE);
-    CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
-    if (!file_contains(c.err, needle))
-        show_stderr(&c);
-    /* the 10 samples that arrived were kept although no flush was due */
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    CHECK(!got.complete);
-    CHECK_EQ(got.count, 10);
-    check_pose_prefix(&got, &want, 10);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-TEST(track_umockdev_polhemus_timeout_is_reported)
-{
-    polhemus_failure(AFTER_END_SILENT, "timeout");
-}
-
-TEST(track_umockdev_polhemus_disconnect_is_reported)
-{
-    polhemus_failure(AFTER_END_DISCONNECT, "disconnected");
-}
-
-/* Garbled transfers are counted and skipped (pp5 polls again, so each costs
- * one trace frame); a station's error indicator drops that station's pose
- * from the sample and is reported. */
-TEST(track_umockdev_polhemus_bad_records_are_counted)
-{
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], args[1400];
-    snprintf(in, sizeof in, "%s/poses-in-bad.trace", dir);
-    trace_t want;
-    make_trace(in, 40, true, &want);
-    bed_t b;
-    BED_OR_FAIL(&b, &want, 40, AFTER_END_SILENT);
-    b.emu.garble_every = 10;    /* frames 9, 19, 29, 39 */
-    b.emu.hand_error_frame = 5;
-    child_t c;
-    snprintf(outp, sizeof outp, "%s/polhemus-bad.trace", dir);
-    snprintf(args, sizeof args, "track record --device polhemus --out %s --max-samples 30 "
-             "--rate 500 --timeout-ms 2000", outp);
-    REQUIRE(child_start(&c, dir, args));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
-    if (rc != 0)
-        show_stderr(&c);
-    CHECK_MSG(rc == 0, "pp5 exited %d (-1: hang, killed)", rc);
-    CHECK_MSG(file_contains(c.err, "malformed transfers 3"), "garbled transfers not counted");
-    CHECK_MSG(file_contains(c.err, "station errors 1"), "station error not counted");
-    CHECK_MSG(file_contains(c.err, "station 2 reported error 'E'"), "station error not reported");
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    REQUIRE(got.count == 30);
-    /* sample k came from frame k + (garbled frames before it): frames 9,
-     * 19, 29 were skipped; frame 5's hand record carried the error */
-    int bad = 0;
-    for (size_t k = 0; k < 30; k++) {
-        size_t frame = k + (k >= 9) + (k >= 18) + (k >= 27);
-        const gaze_sample_t *g = &got.samples[k], *w = &want.samples[frame];
-        bool hand_expected = frame != 5;
-        if (!(g->flags & GAZE_FLAG_HEAD) || ((g->flags & GAZE_FLAG_HAND) != 0) != hand_expected ||
-            fabs(g->head.pos_mm[0] - w->head.pos_mm[0]) > 1e-3)
-            bad++;
-    }
-    CHECK_MSG(bad == 0, "%d samples do not match the frames the device sent", bad);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-/* Injects reports for samples [from, to) of t into the hidraw pty in one
- * burst: the child reads exactly one report per read (hid_eye_read asks for
- * the longest input report), so the pty's byte stream keeps the boundaries,
- * and no scheduling gap between reports can look like a device timeout. */
-static bool inject(bed_t *b, const trace_t *t, size_t from, size_t to, uint8_t id)
-{
-    if (to <= from)
-        return true;
-    size_t n = to - from;
-    uint8_t *buf = malloc(65 * n);
-    if (!buf)
-        return false;
-    for (size_t i = 0; i < n; i++)
-        tracking_report(buf + 65 * i, &t->samples[from + i], id);
-    bool ok = write_all(b->hid_master, buf, 65 * n);
-    free(buf);
-    return ok;
 }
 
 TEST(track_umockdev_hid_record_matches_the_trace)
@@ -1008,28 +135,28 @@ TEST(track_umockdev_hid_record_matches_the_trace)
     char in[600], outp[600], args[1400];
     snprintf(in, sizeof in, "%s/gaze-in.trace", dir);
     trace_t want;
-    make_trace(in, 40, false, &want);
+    umd_make_trace(in, 40, false, &want);
     bed_t b;
     BED_OR_FAIL(&b, &want, 40, AFTER_END_SILENT);
     child_t c;
     snprintf(outp, sizeof outp, "%s/hid-out.trace", dir);
     snprintf(args, sizeof args,
              "track record --device hid --out %s --max-samples 40 --timeout-ms 3000", outp);
-    REQUIRE(child_start(&c, dir, args));
-    bool opened = wait_features(&b, &c);
+    REQUIRE(umd_child_start(&c, dir, args));
+    bool opened = umd_wait_features(&b, &c);
     CHECK_MSG(opened, "pp5 never read the Configuration feature report");
     /* three reports of a foreign id among the samples: counted, not fatal */
     if (opened) {
-        CHECK(inject(&b, &want, 0, 20, 0x10));
-        CHECK(inject(&b, &want, 0, 3, 0x42));
-        CHECK(inject(&b, &want, 20, 40, 0x10));
+        CHECK(umd_inject(&b, &want, 0, 20, 0x10));
+        CHECK(umd_inject(&b, &want, 0, 3, 0x42));
+        CHECK(umd_inject(&b, &want, 20, 40, 0x10));
     }
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
+    int rc = umd_child_wait(&c, CHILD_DEADLINE_S);
+    umd_bed_close(&b);
     if (rc != 0)
-        show_stderr(&c);
+        umd_show_stderr(&c);
     CHECK_MSG(rc == 0, "pp5 track record exited %d (-1: hang, killed)", rc);
-    CHECK_MSG(file_contains(c.err, "malformed 3"), "malformed reports not counted");
+    CHECK_MSG(umd_file_contains(c.err, "malformed 3"), "malformed reports not counted");
     trace_t got;
     REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
     CHECK(got.complete);
@@ -1038,370 +165,7 @@ TEST(track_umockdev_hid_record_matches_the_trace)
     CHECK_NEAR(got.header.sample_rate_hz, EMU_RATE_HZ, 0);
     CHECK_NEAR(got.header.geometry.width_mm, CAL_W_UM / 1000.0, 1e-9);
     CHECK_NEAR(got.header.geometry.distance_mm, 650.0, 1e-9);
-    check_gaze_prefix(&got, &want, 40);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-static void hid_failure(bool disconnect, int n_good, int n_bad, const char *needle)
-{
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], args[1400];
-    snprintf(in, sizeof in, "%s/gaze-in-fail.trace", dir);
-    trace_t want;
-    make_trace(in, 80, false, &want);
-    bed_t b;
-    BED_OR_FAIL(&b, &want, (size_t)n_good, AFTER_END_SILENT);
-    child_t c;
-    snprintf(outp, sizeof outp, "%s/hid-fail.trace", dir);
-    /* --flush-every 1 --verbose only for the disconnect test, which waits
-     * for the flush lines; the others check that an error still flushes */
-    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 1000 %s", outp,
-             disconnect ? "--flush-every 1 --verbose" : "--flush-every 1000");
-    REQUIRE(child_start(&c, dir, args));
-    bool opened = wait_features(&b, &c);
-    CHECK_MSG(opened, "pp5 never read the Configuration feature report");
-    if (opened) {
-        CHECK(inject(&b, &want, 0, (size_t)n_good, 0x10));
-        CHECK(inject(&b, &want, 0, (size_t)n_bad, 0x42));
-    }
-    if (disconnect) {
-        /* wait (bounded) until the child has the samples, then the device
-         * goes away: the pty's other side closes, and the child's poll()
-         * sees POLLHUP as with an unplugged hidraw node */
-        char line[64];
-        snprintf(line, sizeof line, "flushed %d samples", n_good);
-        for (int i = 0; i < CHILD_DEADLINE_S * 100 && !file_contains(c.err, line) &&
-                        child_running(&c); i++)
-            sleep_ms(10);
-        CHECK_MSG(file_contains(c.err, line), "child never reported '%s'", line);
-        close(b.hid_master);
-    }
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
-    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d (device error; -1: hang, killed)",
-              rc, PP5_EXIT_DEVICE);
-    CHECK_MSG(file_contains(c.err, needle), "stderr lacks '%s'", needle);
-    if (!file_contains(c.err, needle))
-        show_stderr(&c);
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    CHECK(!got.complete);
-    CHECK_EQ(got.count, (size_t)n_good);
-    check_gaze_prefix(&got, &want, (size_t)n_good);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-/* SIGTERM (or Ctrl-C) while pp5 waits for the device: a clean stop, the
- * file complete with its end line, exit 0. */
-TEST(track_umockdev_hid_sigterm_ends_the_file_cleanly)
-{
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], args[1400];
-    snprintf(in, sizeof in, "%s/gaze-in-term.trace", dir);
-    trace_t want;
-    make_trace(in, 12, false, &want);
-    bed_t b;
-    BED_OR_FAIL(&b, &want, 12, AFTER_END_SILENT);
-    child_t c;
-    snprintf(outp, sizeof outp, "%s/hid-term.trace", dir);
-    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 10000 "
-             "--flush-every 1 --verbose", outp);
-    REQUIRE(child_start(&c, dir, args));
-    bool opened = wait_features(&b, &c);
-    CHECK_MSG(opened, "pp5 never read the Configuration feature report");
-    if (opened)
-        CHECK(inject(&b, &want, 0, 12, 0x10));
-    for (int i = 0; i < CHILD_DEADLINE_S * 100 && !file_contains(c.err, "flushed 12 samples") &&
-                    child_running(&c); i++)
-        sleep_ms(10);
-    if (!child_poll(&c))
-        kill(c.pid, SIGTERM);
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
-    if (rc != 0)
-        show_stderr(&c);
-    CHECK_MSG(rc == 0, "pp5 exited %d after SIGTERM, expected 0 (-1: hang, killed)", rc);
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    CHECK(got.complete);
-    CHECK_EQ(got.count, 12);
-    check_gaze_prefix(&got, &want, 12);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-TEST(track_umockdev_hid_timeout_is_reported)
-{
-    hid_failure(false, 10, 0, "timeout");
-}
-
-TEST(track_umockdev_hid_disconnect_is_reported)
-{
-    hid_failure(true, 10, 0, "disconnected");
-}
-
-TEST(track_umockdev_hid_persistent_malformed_reports_stop_the_recording)
-{
-    hid_failure(false, 5, 60, "malformed reports in a row");
-}
-
-/* After a kill -9 the testbed's ioctl thread finds the client gone in the
- * middle of a request and GLib logs a warning and a critical about it; they
- * are expected there, so they are counted and summarised instead. */
-static int umockdev_msgs_after_kill;
-
-static void quiet_log(const gchar *domain, GLogLevelFlags level, const gchar *msg, gpointer data)
-{
-    (void)domain, (void)level, (void)msg, (void)data;
-    umockdev_msgs_after_kill++;
-}
-
-/* kill -9 in the middle of a recording: the file must parse and hold at
- * least every sample the recorder said it had flushed. */
-TEST(track_umockdev_kill9_keeps_flushed_samples)
-{
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], args[1400];
-    snprintf(in, sizeof in, "%s/gaze-in-kill.trace", dir);
-    trace_t want;
-    make_trace(in, 300, false, &want);
-    bed_t b;
-    BED_OR_FAIL(&b, &want, 300, AFTER_END_SILENT);
-    child_t c;
-    snprintf(outp, sizeof outp, "%s/hid-kill9.trace", dir);
-    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 5000 "
-             "--flush-every 7 --verbose", outp);
-    REQUIRE(child_start(&c, dir, args));
-    bool opened = wait_features(&b, &c);
-    REQUIRE_MSG(opened, "pp5 never read the Configuration feature report");
-    /* feed until the recorder reports a few flushes, then kill it; stay at
-     * most 10 reports ahead of what it has flushed, so the kill lands in
-     * the middle of a stream, with samples received but not yet flushed */
-    size_t sent = 0;
-    long flushed = 0;
-    for (int spins = 0; sent < want.count && child_running(&c) && flushed < 35 &&
-                        spins < CHILD_DEADLINE_S * 500; spins++) {
-        if ((long)sent < flushed + 10) {
-            REQUIRE(inject(&b, &want, sent, sent + 1, 0x10));
-            sent++;
-        } else {
-            sleep_ms(2);
-        }
-        char *e = pp5_test_read_file(c.err);
-        const char *last = NULL;
-        for (const char *p = e; p && (p = strstr(p, "flushed ")); p++)
-            last = p;
-        if (last)
-            flushed = strtol(last + 8, NULL, 10);
-        free(e);
-    }
-    umockdev_msgs_after_kill = 0;
-    GLogFunc previous = g_log_set_default_handler(quiet_log, NULL);
-    if (!child_poll(&c))
-        kill(c.pid, SIGKILL);
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    bed_close(&b);
-    g_log_set_default_handler(previous, NULL);
-    if (umockdev_msgs_after_kill)
-        printf("    (%d umockdev log messages about the killed client suppressed)\n",
-               umockdev_msgs_after_kill);
-    CHECK_MSG(rc == 128 + SIGKILL, "child ended with %d, not by the kill", rc);
-    CHECK_MSG(flushed >= 35, "recorder reported only %ld flushed samples", flushed);
-    /* re-read stderr after the kill: the last flush line is the bound */
-    char *e = pp5_test_read_file(c.err);
-    for (const char *p = e; p && (p = strstr(p, "flushed ")); p++)
-        flushed = strtol(p + 8, NULL, 10);
-    free(e);
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "killed recording does not parse: %s",
-                pp5_error_text());
-    CHECK(!got.complete);
-    CHECK_MSG((long)got.count >= flushed, "file has %zu samples, recorder had flushed %ld",
-              got.count, flushed);
-    CHECK(got.count <= sent);
-    check_gaze_prefix(&got, &want, got.count);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-/* ---- the umockdev-run route: fixture files instead of handlers ----
- * umockdev-run replays hidraw ioctls from an ioctl tree (answered in the
- * order recorded) and input reports from a read script; the files are
- * generated here from a trace, like tests/fixtures/devices/eyetracker.*.
- * The script ends after 20 reports, so pp5 must stop with a timeout. */
-
-static void write_script_bytes(FILE *f, const uint8_t *b, size_t n)
-{
-    /* umockdev script escaping: bytes below 32 as '^' + (b + 64), '^' as "^`" */
-    for (size_t i = 0; i < n; i++) {
-        if (b[i] < 32)
-            fprintf(f, "^%c", b[i] + 64);
-        else if (b[i] == '^')
-            fputs("^`", f);
-        else
-            fputc(b[i], f);
-    }
-}
-
-static bool write_fixture_files(const char *dir, const trace_t *t, size_t n_reports)
-{
-    char path[700];
-    snprintf(path, sizeof path, "%s/trackers.umockdev", dir);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return false;
-    char *text = trackers_umockdev_text(&EMU_PATRIOT);
-    fputs(text, f);
-    g_free(text);
-    fclose(f);
-
-    snprintf(path, sizeof path, "%s/eyetracker.ioctl", dir);
-    f = fopen(path, "w");
-    if (!f)
-        return false;
-    uint32_t dlen = sizeof pp5_fixture_eye_desc;
-    fprintf(f, "@DEV /dev/hidraw0\nHIDIOCGRDESCSIZE 0 %02x%02x%02x%02x\n", dlen & 0xff,
-            (dlen >> 8) & 0xff, (dlen >> 16) & 0xff, dlen >> 24);
-    static const uint8_t ids[3] = {0x11, 0x12, 0x13}; /* the order pp5 asks in */
-    for (int k = 0; k < 3; k++) {
-        uint8_t rep[32];
-        size_t n = feature_report(ids[k], rep);
-        fprintf(f, "HIDIOCGFEATURE %zu ", n);
-        for (size_t i = 0; i < n; i++)
-            fprintf(f, "%02x", rep[i]);
-        fputc('\n', f);
-    }
-    fclose(f);
-
-    snprintf(path, sizeof path, "%s/eyetracker.script", dir);
-    f = fopen(path, "w");
-    if (!f)
-        return false;
-    for (size_t i = 0; i < n_reports && i < t->count; i++) {
-        uint8_t r[65];
-        tracking_report(r, &t->samples[i], 0x10);
-        fputs("r 4 ", f);
-        write_script_bytes(f, r, sizeof r);
-        fputc('\n', f);
-    }
-    fclose(f);
-    return true;
-}
-
-TEST(track_umockdev_run_replays_fixture_files)
-{
-    if (system("command -v umockdev-run >/dev/null 2>&1") != 0)
-        SKIP("UMOCKDEV-RUN NOT INSTALLED: this device integration test did not run "
-             "(apt-get install umockdev)");
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], prefix[2400], args[800];
-    snprintf(in, sizeof in, "%s/gaze-in-run.trace", dir);
-    trace_t want;
-    make_trace(in, 20, false, &want);
-    REQUIRE(write_fixture_files(dir, &want, 20));
-    /* the shipped copies (for trying by hand) must be what this generates */
-    static const char *const names[4][2] = {{"trackers.umockdev", "trackers.umockdev"},
-                                            {"eyetracker.ioctl", "eyetracker.ioctl"},
-                                            {"eyetracker.script", "eyetracker.script"},
-                                            {"gaze-in-run.trace", "eyetracker-20.trace"}};
-    for (int k = 0; k < 4; k++) {
-        char gen[700], shipped[700];
-        snprintf(gen, sizeof gen, "%s/%s", dir, names[k][0]);
-        snprintf(shipped, sizeof shipped, "tests/fixtures/devices/%s", names[k][1]);
-        char *a = pp5_test_read_file(gen), *b = pp5_test_read_file(shipped);
-        CHECK_MSG(a && b && strcmp(a, b) == 0,
-                  "%s differs from what the test generates (copy %s over it)", shipped, gen);
-        free(a);
-        free(b);
-    }
-    snprintf(prefix, sizeof prefix,
-             "umockdev-run -d %s/trackers.umockdev -i /dev/hidraw0=%s/eyetracker.ioctl "
-             "-s /dev/hidraw0=%s/eyetracker.script --",
-             dir, dir, dir);
-    snprintf(outp, sizeof outp, "%s/run-out.trace", dir);
-    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 1000", outp);
-    child_t c;
-    REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
-    int rc = child_wait(&c, CHILD_DEADLINE_S);
-    CHECK_MSG(rc == PP5_EXIT_DEVICE, "umockdev-run pp5 exited %d, expected %d (device error; "
-              "-1: hang, killed)", rc, PP5_EXIT_DEVICE);
-    CHECK_MSG(file_contains(c.err, "timeout"), "stderr lacks 'timeout'");
-    if (rc != PP5_EXIT_DEVICE || !file_contains(c.err, "timeout"))
-        show_stderr(&c);
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    CHECK(!got.complete);
-    CHECK_EQ(got.count, 20);
-    CHECK_NEAR(got.header.sample_rate_hz, EMU_RATE_HZ, 0);
-    check_gaze_prefix(&got, &want, 20);
-    trace_free(&got);
-    trace_free(&want);
-}
-
-/* Soak (`make soak`; hidden unless PP5_SOAK=1): PP5_SOAK_LIVE_S seconds
- * (default 600) of live HID recording, the path `pp5 track record --device
- * hid` takes, from the emulated eye tracker under umockdev-run, whose script
- * sends one 65-byte report every 4 ms in real time.  Memory is sampled every
- * two seconds; the peak RSS over the first and the last tenth must agree
- * within 5 % + 2 MB, and every report must reach the file. */
-TEST(soak_live_hid_recording_from_an_emulated_device)
-{
-    if (system("command -v umockdev-run >/dev/null 2>&1") != 0)
-        SKIP("UMOCKDEV-RUN NOT INSTALLED: the live soak did not run (apt-get install umockdev)");
-    const char *v = getenv("PP5_SOAK_LIVE_S");
-    double seconds = v && atof(v) > 0 ? atof(v) : 600;
-    size_t n = (size_t)(seconds * EMU_RATE_HZ);
-    const char *dir = pp5_test_outdir();
-    char in[600], outp[600], prefix[2400], args[800];
-    snprintf(in, sizeof in, "%s/gaze-in-soak.trace", dir);
-    trace_t want;
-    make_trace(in, n, false, &want);
-    REQUIRE(write_fixture_files(dir, &want, n));
-    snprintf(prefix, sizeof prefix,
-             "umockdev-run -d %s/trackers.umockdev -i /dev/hidraw0=%s/eyetracker.ioctl "
-             "-s /dev/hidraw0=%s/eyetracker.script --",
-             dir, dir, dir);
-    snprintf(outp, sizeof outp, "%s/soak-out.trace", dir);
-    snprintf(args, sizeof args, "track record --device hid --out %s --timeout-ms 2000", outp);
-    child_t c;
-    REQUIRE(child_start_cmd(&c, dir, prefix, args, false));
-    soak_series_t ser = {0};
-    struct timespec t0, now;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    pid_t pp5 = -1;
-    double wall = 0;
-    while (child_running(&c) && wall < seconds + 300) {
-        if (pp5 < 0)
-            pp5 = soak_find_child(c.pid);      /* umockdev-run's child is pp5 */
-        long rss, hwm;
-        if (pp5 > 0 && soak_read_memory(pp5, &rss, &hwm))
-            soak_series_add(&ser, wall, rss, hwm);
-        sleep_ms(2000);
-        clock_gettime(CLOCK_MONOTONIC, &now);
-        wall = (double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec);
-    }
-    int rc = child_wait(&c, 5);
-    /* The script runs out, and the recorder stops on its timeout (a device error). */
-    CHECK_MSG(rc == PP5_EXIT_DEVICE, "pp5 exited %d, expected %d", rc, PP5_EXIT_DEVICE);
-    if (rc != PP5_EXIT_DEVICE)
-        show_stderr(&c);
-    trace_t got;
-    REQUIRE_MSG(trace_read_file(outp, &got) == PP5_OK, "%s", pp5_error_text());
-    CHECK_EQ(got.count, n);
-    check_gaze_prefix(&got, &want, n < got.count ? n : got.count);
-    REQUIRE(ser.n >= 10);
-    char csv[700];
-    snprintf(csv, sizeof csv, "%s/rss.csv", dir);
-    CHECK(soak_series_write_csv(&ser, csv));
-    long first = soak_peak_rss(&ser, 0, 0.1 * wall), last = soak_peak_rss(&ser, 0.9 * wall, wall + 1);
-    printf("    soak live: %zu reports (%.0f s at %d Hz) recorded in %.0f s wall; peak RSS %ld kB "
-           "over the first tenth, %ld kB over the last tenth; VmHWM at the end %ld kB (%s)\n",
-           got.count, seconds, (int)EMU_RATE_HZ, wall, first, last, ser.s[ser.n - 1].hwm_kb, csv);
-    CHECK_MSG((double)last <= 1.05 * (double)first + 2048, "RSS rose from %ld kB to %ld kB",
-              first, last);
-    soak_series_free(&ser);
+    umd_check_gaze_prefix(&got, &want, 40);
     trace_free(&got);
     trace_free(&want);
 }

@@ -34,7 +34,6 @@ typedef struct {
 
 void import_defaults(import_options_t *o);
 bool import_format_parse(const char *name, import_format_t *f);
-const char *import_format_name(import_format_t f);
 /* Guesses the format from the first bytes of the (decompressed) text. */
 import_format_t import_detect(const char *text, size_t len);
 

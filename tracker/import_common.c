@@ -29,11 +29,6 @@ bool import_format_parse(const char *name, import_format_t *f)
     return false;
 }
 
-const char *import_format_name(import_format_t f)
-{
-    return (unsigned)f < 5 ? format_names[f] : "?";
-}
-
 static bool starts(const char *text, size_t len, const char *prefix)
 {
     size_t n = strlen(prefix);

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "outfile.h"
 #include "registry.h"
 #include "render_cmd.h"
 
@@ -419,10 +420,16 @@ static pp5_status_t parse_option(render_cmd_t *c, int opt, const char *arg)
 
 static pp5_status_t render_run(render_cmd_t *c)
 {
+    /* Polygons check their own outputs (render_mesh.c). */
     if (c->mesh_file || c->scene_file)
         return render_mesh_run(c, stdout);
+    /* A bad output path is reported before the volume is loaded and rendered. */
+    pp5_status_t st = outpath_check_all("--out", c->out_png, "--report", c->report_json, "--fig5",
+                                        c->fig5_png, "--timeline", c->timeline, NULL);
+    if (st != PP5_OK)
+        return st;
     scene_t sc;
-    pp5_status_t st = render_input_load(&c->input, &sc, stdout);
+    st = render_input_load(&c->input, &sc, stdout);
     if (st != PP5_OK)
         return st;
     render_job_t job;

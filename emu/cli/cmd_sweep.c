@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "outfile.h"
 #include "emu/cli/cmd_sweep.h"
 #include "firmware/host/fw_session.h"
 #include "plot.h"
@@ -288,6 +289,10 @@ static int cmd_sweep(int argc, char **argv)
     int rc = parse_args(argc, argv, &sw, &st);
     if (rc)
         return rc == 1 ? 0 : 2;
+    /* Bad output paths are reported before any point runs. */
+    if (st == PP5_OK)
+        st = outpath_check_all("--out", sw.out_csv, "--plot", sw.out_png, "--report", sw.report,
+                               "--accounting", sw.accounting, NULL);
     if (st != PP5_OK)
         return cliopt_report("sweep", st);
     scene_t sc;

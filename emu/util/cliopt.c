@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <stdbool.h>
 
 pp5_status_t cliopt_long(const char *opt, const char *text, long min, long max, long *out)
 {
@@ -78,4 +80,23 @@ int cliopt_report(const char *cmd, pp5_status_t st)
     fprintf(stderr, "pp5 %s: %s\n", cmd, pp5_error_text()[0] ? pp5_error_text()
                                                              : pp5_status_name(st));
     return pp5_exit_code(st);
+}
+
+int cliopt_only(int argc, char **argv, const char *cmd, const char *help,
+                const char *const *allowed)
+{
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            fputs(help, stdout);
+            return 0;
+        }
+    for (int i = 1; i < argc; i++) {
+        bool ok = false;
+        for (int k = 0; allowed && allowed[k] && !ok; k++)
+            ok = strcmp(argv[i], allowed[k]) == 0;
+        if (!ok)
+            return cliopt_report(cmd, pp5_fail(PP5_E_CONFIG, "unknown option '%s' (see --help)",
+                                               argv[i]));
+    }
+    return -1;
 }

@@ -17,5 +17,11 @@ pp5_status_t cliopt_pair(const char *opt, const char *text, double *x, double *y
  * status (pp5_exit_code: 2 usage, 3 bad input, 4 i/o, 5 machine, 6 device,
  * 7 not built in, 1 other): the one place a status becomes an exit code. */
 int cliopt_report(const char *cmd, pp5_status_t st);
+/* For a command with no options of its own beyond those in `allowed` (a
+ * NULL-terminated list, or NULL): argv[1..argc-1] holding --help or -h prints
+ * `help` and gives 0; any other argument not allowed is reported as a usage
+ * error (exit 2); otherwise -1, meaning "go on". */
+int cliopt_only(int argc, char **argv, const char *cmd, const char *help,
+                const char *const *allowed);
 
 #endif

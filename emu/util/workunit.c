@@ -1,6 +1,7 @@
 /* workunit.c: unit lists and their stable ids, the shard syntax, the
  * launcher probe, and the batch outputs (CSV and JSON in unit order). */
 #include "workunit.h"
+#include "outfile.h"
 
 #include <inttypes.h>
 #include <stdio.h>
@@ -109,26 +110,22 @@ int workunit_launcher_rank(void)
     return 0;
 }
 
-/* Writes through a temporary file beside path and renames it into place, so
- * that a reader never sees half an output. */
+/* The body writes into outfile's temporary beside path, which is renamed
+ * into place only when every write succeeded (outfile.h): a reader never
+ * sees half an output. */
 pp5_status_t workunit_write_atomic(const char *path, pp5_status_t (*body)(FILE *f, void *arg),
                                    void *arg)
 {
-    size_t n = strlen(path) + 32;
-    char *tmp = malloc(n);
-    if (!tmp)
-        return pp5_fail(PP5_E_NOMEM, "%s: out of memory", path);
-    snprintf(tmp, n, "%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    pp5_status_t st = f ? body(f, arg) : pp5_fail(PP5_E_IO, "%s: cannot create", tmp);
-    if (f && fclose(f) != 0 && st == PP5_OK)
-        st = pp5_fail(PP5_E_IO, "%s: write failed", tmp);
-    if (st == PP5_OK && rename(tmp, path) != 0)
-        st = pp5_fail(PP5_E_IO, "%s: cannot rename %s into place", path, tmp);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
     if (st != PP5_OK)
-        remove(tmp);
-    free(tmp);
-    return st;
+        return st;
+    st = body(o.f, arg);
+    if (st != PP5_OK) {
+        outfile_discard(&o);
+        return st;
+    }
+    return outfile_commit(&o);
 }
 
 typedef struct {

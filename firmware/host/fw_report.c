@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "json.h"
+#include "outfile.h"
 #include "stats.h"
 
 static void write_class_bytes(json_writer_t *j, const char *key, const fw_frame_result_t *r)
@@ -118,9 +119,11 @@ static void write_compare(json_writer_t *j, const fw_compare_t *cmp, const fw_fr
 pp5_status_t fw_report_write(const char *path, const fw_session_t *s, const fw_frame_record_t *frames,
                              int n_frames, const char *volume_name, const fw_compare_t *cmp)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return pp5_fail(PP5_E_IO, "cannot write %s", path);
+    outfile_t o;
+    pp5_status_t st = outfile_open(&o, path, false);
+    if (st != PP5_OK)
+        return st;
+    FILE *f = o.f;
     char opts[160];
     fw_options_format(&s->opts, opts, sizeof opts);
     json_writer_t j;
@@ -151,7 +154,5 @@ pp5_status_t fw_report_write(const char *path, const fw_session_t *s, const fw_f
     pp5_params_write_json(&s->params, &j);
     json_end_object(&j);
     fputc('\n', f);
-    if (fclose(f) != 0)
-        return pp5_fail(PP5_E_IO, "cannot write %s", path);
-    return PP5_OK;
+    return outfile_commit(&o);
 }

@@ -65,6 +65,17 @@ pp5_status_t mesh_builder_finish(mesh_builder_t *b, const char *path, mesh_t *m)
     return st;
 }
 
+pp5_status_t mesh_builder_end(mesh_builder_t *b, pp5_status_t st, const char *path, mesh_t *m)
+{
+    if (st == PP5_OK && b->nf == 0)
+        st = pp5_fail(PP5_E_FORMAT, "%s: no faces", path);
+    if (st != PP5_OK) {
+        mesh_builder_free(b);
+        return st;
+    }
+    return mesh_builder_finish(b, path, m);
+}
+
 void mesh_builder_free(mesh_builder_t *b)
 {
     free(b->pos);

@@ -16,6 +16,10 @@ pp5_status_t mesh_builder_vertex(mesh_builder_t *b, const double p[3]);
 pp5_status_t mesh_builder_face(mesh_builder_t *b, int32_t a, int32_t c, int32_t d);
 /* Moves the builder's arrays into m (the builder is left empty). */
 pp5_status_t mesh_builder_finish(mesh_builder_t *b, const char *path, mesh_t *m);
+/* How every reader ends: with the reader's status `st` so far, a file
+ * without faces is an error too; on error the builder is freed, else
+ * finished into m. */
+pp5_status_t mesh_builder_end(mesh_builder_t *b, pp5_status_t st, const char *path, mesh_t *m);
 void mesh_builder_free(mesh_builder_t *b);
 
 /* Text cursor: one line at a time, with 1-based line numbers for errors. */

@@ -129,11 +129,5 @@ pp5_status_t mesh_load_off(const char *path, const char *text, size_t n, mesh_t 
     }
     if (st == PP5_OK && off_line(&c, &s, &end))
         st = pp5_fail(PP5_E_FORMAT, "%s:%d: text after the last face", path, c.line);
-    if (st == PP5_OK && b.nf == 0)
-        st = pp5_fail(PP5_E_FORMAT, "%s: no faces", path);
-    if (st != PP5_OK) {
-        mesh_builder_free(&b);
-        return st;
-    }
-    return mesh_builder_finish(&b, path, m);
+    return mesh_builder_end(&b, st, path, m);
 }

@@ -351,11 +351,5 @@ pp5_status_t mesh_load_ply(const char *path, const uint8_t *data, size_t n, mesh
         return st;
     mesh_builder_t b = {0};
     st = ply_body(&y, &b);
-    if (st == PP5_OK && b.nf == 0)
-        st = pp5_fail(PP5_E_FORMAT, "%s: no faces", path);
-    if (st != PP5_OK) {
-        mesh_builder_free(&b);
-        return st;
-    }
-    return mesh_builder_finish(&b, path, m);
+    return mesh_builder_end(&b, st, path, m);
 }

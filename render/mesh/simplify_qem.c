@@ -205,14 +205,8 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
         double p[3];
         qem_place(&s, a, b, p);
         int32_t S[2] = {a, b};
-        sw_verdict_t v = sw_test_merge(w, S, 2, p, &m);
-        if (v != SW_OK) {
-            if (v == SW_FOLD)
-                w->stats->refused_fold++;
-            else
-                w->stats->refused_topology++;
+        if (!sw_merge_allowed(w, S, 2, p, &m))
             continue;
-        }
         st = sw_apply_merge(w, S, 2, p, &m);
         for (int i = 0; i < 10; i++)
             s.Q[a].q[i] += s.Q[b].q[i];

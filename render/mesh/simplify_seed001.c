@@ -181,14 +181,8 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
         if (!s001_evaluate(&s, e.id, v0, &cost))
             continue;
         int32_t S[3] = {w->tri[3 * e.id], w->tri[3 * e.id + 1], w->tri[3 * e.id + 2]};
-        sw_verdict_t v = sw_test_merge(w, S, 3, v0, &m);
-        if (v != SW_OK) {
-            if (v == SW_FOLD)
-                w->stats->refused_fold++;
-            else
-                w->stats->refused_topology++;
+        if (!sw_merge_allowed(w, S, 3, v0, &m))
             continue;
-        }
         st = sw_apply_merge(w, S, 3, v0, &m);
         if (st == PP5_OK)
             s001_refresh(&s, S[0], &m);

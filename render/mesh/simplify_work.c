@@ -631,6 +631,16 @@ static void remove_faces(sw_t *w, const int32_t *S, int k, const sw_merge_t *m)
     }
 }
 
+bool sw_merge_allowed(sw_t *w, const int32_t *S, int k, const double p[3], sw_merge_t *m)
+{
+    sw_verdict_t v = sw_test_merge(w, S, k, p, m);
+    if (v == SW_FOLD)
+        w->stats->refused_fold++;
+    else if (v != SW_OK)
+        w->stats->refused_topology++;
+    return v == SW_OK;
+}
+
 pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
                             const sw_merge_t *m)
 {

@@ -142,6 +142,9 @@ int sw_ring(const sw_t *w, int v, int first, int32_t *ring, int cap);
  * costs) and returns the verdict. */
 sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double p[3],
                            sw_merge_t *m);
+/* sw_test_merge, counting a refusal in the statistics (folds apart from
+ * topology); true when the merge may go ahead. */
+bool sw_merge_allowed(sw_t *w, const int32_t *S, int k, const double p[3], sw_merge_t *m);
 /* Performs a tested merge: S[0] survives at p; records k-1 steps.  Queue
  * entries of the removed faces' corners are dropped. */
 pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
