@@ -71,7 +71,9 @@ static pp5_status_t block_map_build(octree_grid_t *g, size_t *bytes)
     g->block_ny = (ny + 3) / 4;
     g->block_nz = (nz + 3) / 4;
     size_t count = (size_t)g->block_nx * g->block_ny * g->block_nz;
-    g->block_height = malloc(count);
+    /* Three bytes of padding: the AVX2 walk reads each byte as the low
+     * byte of a 32-bit gather (raycast_walk_avx2.c). */
+    g->block_height = calloc(count + 3, 1);
     g->block_bits = calloc(count, sizeof *g->block_bits);
     if (!g->block_height || !g->block_bits)
         return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate the block map");

@@ -3,6 +3,7 @@
 #include "raycast.h"
 
 #include "raycast_internal.h"
+#include "raycast_parallel.h"
 
 #include <math.h>
 #include <string.h>
@@ -119,6 +120,7 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     r->sample_step = v->sample_step > 0.0f ? v->sample_step : 1.0f;
     r->level3d_offset = log2f(r->sample_step);
     r->early_termination = v->early_termination;
+    r->simd_walk = raycast_walk_avx2_supported();
     if (s->lighting == SHADE_MOVING_OBJECT) {
         /* Light given in eye space: carry it into object space for this view. */
         for (int a = 0; a < 3; a++)
@@ -398,6 +400,20 @@ void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, con
         raycast_parallel_batch(r, count, px, py, level2d, rgb, counts);
     else
         reference_batch(r, count, px, py, level2d, rgb, counts);
+}
+
+void raycast_trace_rays(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                        int level2d, float (*rgb)[3], raycast_counts_t *counts)
+{
+    bool fast = r->octree && r->camera->projection == PROJECTION_PARALLEL;
+    int chunk = fast ? RAYCAST_CHUNK : RAYCAST_BATCH;
+    for (int i = 0; i < count; i += chunk) {
+        int n = count - i < chunk ? count - i : chunk;
+        if (fast)
+            raycast_parallel_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+        else
+            reference_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+    }
 }
 
 void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],

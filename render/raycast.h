@@ -94,6 +94,10 @@ typedef struct {
     float sample_step;
     float level3d_offset;      /* log2(sample_step): 3DLevel = log2(spacing) - this */
     float early_termination;
+    /* Parallel rays walk eight positions at a time with AVX2 (set by
+     * raycast_ctx_init when the host has it; false: the portable walk, the
+     * same samples either way). */
+    bool simd_walk;
     float light_obj[3];        /* light direction in object space for this frame */
     /* Parallel projection: opacity correction 1 - (1 - a)^spacing tabulated
      * per 2D level (spacing = step * 2^level), linear between entries. */
@@ -122,6 +126,13 @@ void raycast_trace_reference(const raycast_ctx_t *r, float px, float py, int lev
 #define RAYCAST_BATCH 8
 void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                          int level2d, float (*rgb)[3], raycast_counts_t *counts);
+
+/* The same for any number of rays of one 2D level (a texel row): parallel
+ * rays go RAYCAST_CHUNK at a time through the fast tracer, whose lanes take
+ * a new ray as soon as one ends; each result is still raycast_trace's. */
+#define RAYCAST_CHUNK 64
+void raycast_trace_rays(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                        int level2d, float (*rgb)[3], raycast_counts_t *counts);
 
 /* Front-to-back compositing of one opacity-weighted sample (c = a*colour). */
 static inline void raycast_composite(float acc_rgb[3], float *acc_a, const float c[3], float a)

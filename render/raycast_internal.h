@@ -116,7 +116,7 @@ static inline bool raycast_accumulate(const raycast_ctx_t *r, const float *comp,
 long raycast_parallel_positions(float t0, float t1, float base);
 
 /* Fast tracer for parallel projection with the octree (raycast_parallel.c):
- * draws exactly the samples of the reference tracer. */
+ * draws exactly the samples of the reference tracer; count <= RAYCAST_CHUNK. */
 void raycast_parallel_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                             int level2d, float (*rgb)[3], raycast_counts_t *counts);
 

@@ -199,9 +199,11 @@ static void job_cast_row(void *ctx, int item, int thread)
     int j = item - job->row_level[l];
     size_t base = (size_t)j * m->w[l];
     /* Gather the row's uncast, needed texels and trace them in batches. */
-    float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    float px[RAYCAST_CHUNK], py[RAYCAST_CHUNK], rgb[RAYCAST_CHUNK][3];
     float guess = 0.0f;           /* MIP/DEMIP threshold guess along the row */
-    int idx[RAYCAST_BATCH], n = 0;
+    int idx[RAYCAST_CHUNK], n = 0;
+    bool composite = job->s->blend.mode == BLEND_COMPOSITE;
+    int cap = composite ? RAYCAST_CHUNK : RAYCAST_BATCH;
     for (int i = 0; i <= m->w[l]; i++) {
         if (i < m->w[l]) {
             if (!m->need[l][base + i] || m->cast[l][base + i])
@@ -209,9 +211,9 @@ static void job_cast_row(void *ctx, int item, int thread)
             mip2d_texel_point(l, i, j, &px[n], &py[n]);
             idx[n++] = i;
         }
-        if (n == RAYCAST_BATCH || (i == m->w[l] && n > 0)) {
-            if (job->s->blend.mode == BLEND_COMPOSITE)
-                raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+        if (n == cap || (i == m->w[l] && n > 0)) {
+            if (composite)
+                raycast_trace_rays(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
             else
                 blend_trace_batch(&job->blend, n, px, py, l, rgb, &guess,
                                   &job->counts[thread].c);
