@@ -255,7 +255,9 @@ static inline bool draw_sample(const raycast_ctx_t *r, const par_level_t *L, par
                                const float p[3], const float q[3], const int fl[3])
 {
     float comp[8];
-    if (L->exact && r->mip->stride == 4)
+    if (r->mip->format != MIP3D_F32 && L->exact)
+        mip3d_trilerp(r->mip, L->n, q[0], q[1], q[2], comp);
+    else if (L->exact && r->mip->stride == 4)
         trilerp4(&r->mip->level[L->n], q, fl, comp);
     else if (L->exact && r->mip->stride == 8)
         trilerp(&r->mip->level[L->n], 8, q, fl, comp);

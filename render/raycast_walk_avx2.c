@@ -246,6 +246,71 @@ static inline void lanes_trilerp4(const mip3d_level_t *V, const cells_t *cl, vi 
     out[3] = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
 }
 
+/* The packed formats' trilerp for every lane in m, stride 4: the corners'
+ * bricked indices (mip3d_packed.c's layout, computed rather than looked
+ * up), one 32-bit gather per corner for U8 (all four components) or two for
+ * U16, each component converted and scaled as mip3d_packed_voxel does, then
+ * the float arithmetic of mip3d_trilerp_packed. */
+static inline vi brick_offset(vi v, int step, int inner)
+{
+    return _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(v, 2), iset(step)),
+                            _mm256_mullo_epi32(_mm256_and_si256(v, iset(3)), iset(inner)));
+}
+
+static inline void lanes_trilerp_packed(const mip3d_t *mp, const mip3d_level_t *V,
+                                        const mip3d_packed_t *P, const cells_t *cl, vi m,
+                                        vf out[4])
+{
+    vf w[3];
+    vi o[3][2];
+    const int dims[3] = {V->nx, V->ny, V->nz};
+    const int bx = (V->nx + 3) / 4, by = (V->ny + 3) / 4;
+    const int step[3] = {64, 64 * bx, 64 * bx * by}, inner[3] = {1, 4, 16};
+    for (int a = 0; a < 3; a++) {
+        w[a] = _mm256_sub_ps(cl->q[a], _mm256_cvtepi32_ps(cl->fl[a]));
+        vi top = iset(dims[a] - 1), zero = _mm256_setzero_si256();
+        vi lo = _mm256_min_epi32(_mm256_max_epi32(cl->fl[a], zero), top);
+        vi hi = _mm256_min_epi32(_mm256_max_epi32(_mm256_add_epi32(cl->fl[a], iset(1)), zero), top);
+        o[a][0] = brick_offset(lo, step[a], inner[a]);
+        o[a][1] = brick_offset(hi, step[a], inner[a]);
+    }
+    const vf mf = _mm256_castsi256_ps(m);
+    vf v[4][8];                   /* component, corner (x fastest) */
+    for (int c = 0; c < 8; c++) {
+        vi idx = _mm256_add_epi32(_mm256_add_epi32(o[0][c & 1], o[1][(c >> 1) & 1]),
+                                  o[2][c >> 2]);
+        if (mp->format == MIP3D_U8) {
+            vi word = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), P->data, idx,
+                                                  _mm256_castps_si256(mf), 4);
+            for (int j = 0; j < 4; j++)
+                v[j][c] = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(
+                                            _mm256_srli_epi32(word, 8 * j), iset(255))),
+                                        fset(mp->unit[j]));
+        } else {
+            for (int half = 0; half < 2; half++) {
+                vi word = _mm256_mask_i32gather_epi32(
+                    _mm256_setzero_si256(), (const int *)P->data + half,
+                    _mm256_slli_epi32(idx, 1), _mm256_castps_si256(mf), 4);
+                v[2 * half][c] = _mm256_mul_ps(
+                    _mm256_cvtepi32_ps(_mm256_and_si256(word, iset(0xffff))),
+                    fset(mp->unit[2 * half]));
+                v[2 * half + 1][c] = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32(word, 16)),
+                                                   fset(mp->unit[2 * half + 1]));
+            }
+        }
+    }
+    for (int j = 0; j < 4; j++) {
+        vf *c = v[j];
+        vf a = _mm256_add_ps(c[0], _mm256_mul_ps(w[0], _mm256_sub_ps(c[1], c[0])));
+        vf b = _mm256_add_ps(c[2], _mm256_mul_ps(w[0], _mm256_sub_ps(c[3], c[2])));
+        vf cc = _mm256_add_ps(c[4], _mm256_mul_ps(w[0], _mm256_sub_ps(c[5], c[4])));
+        vf d = _mm256_add_ps(c[6], _mm256_mul_ps(w[0], _mm256_sub_ps(c[7], c[6])));
+        vf e = _mm256_add_ps(a, _mm256_mul_ps(w[1], _mm256_sub_ps(b, a)));
+        vf f = _mm256_add_ps(cc, _mm256_mul_ps(w[1], _mm256_sub_ps(d, cc)));
+        out[j] = _mm256_add_ps(e, _mm256_mul_ps(w[2], _mm256_sub_ps(f, e)));
+    }
+}
+
 /* raycast_accumulate for the diffuse case in every lane of m: opacity
  * correction from the per-level table, compositing; returns the lanes that
  * reached early termination. */
@@ -349,11 +414,19 @@ static inline unsigned lanes_draw(const raycast_ctx_t *r, const par_level_t *L, 
 {
     istore(ln->samples, _mm256_sub_epi32(iload(ln->samples), bits_to_lanes(m)));
     const mip3d_level_t *V = &r->mip->level[L->n];
-    if (L->exact && r->mip->stride == 4 && L->level2d < RAYCAST_LUT_LEVELS &&
+    if (L->exact && r->mip->stride == 4 && r->mip->format == MIP3D_F32 &&
+        L->level2d < RAYCAST_LUT_LEVELS &&
         (double)V->nx * V->ny * V->nz * 4.0 < 2147483647.0) {
         vf comp[4];
         vi mv = bits_to_lanes(m);
         lanes_trilerp4(V, cl, mv, comp);
+        return lanes_accumulate(r, L, ln, comp, mv);
+    }
+    if (L->exact && r->mip->stride == 4 && r->mip->format != MIP3D_F32 &&
+        L->level2d < RAYCAST_LUT_LEVELS) {
+        vf comp[4];
+        vi mv = bits_to_lanes(m);
+        lanes_trilerp_packed(r->mip, V, &r->mip->packed[L->n], cl, mv, comp);
         return lanes_accumulate(r, L, ln, comp, mv);
     }
     unsigned done = 0;

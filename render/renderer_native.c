@@ -43,12 +43,19 @@ const char *render_mode_name(render_mode_t m)
 pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads)
 {
+    return native_renderer_init_format(r, v, tf, shade, MIP3D_F32, threads);
+}
+
+pp5_status_t native_renderer_init_format(native_renderer_t *r, const volume_t *v,
+                                         const classify_tf_t *tf, const shade_params_t *shade,
+                                         mip3d_format_t format, int threads)
+{
     memset(r, 0, sizeof *r);
     r->tf = *tf;
     r->shade = *shade;
     r->threads = threads > 0 ? threads : parallel_default_threads();
     double t0 = now_ms();
-    pp5_status_t st = mip3d_build(&r->mip, v, &r->tf, &r->shade, r->threads);
+    pp5_status_t st = mip3d_build_format(&r->mip, v, &r->tf, &r->shade, format, r->threads);
     if (st != PP5_OK)
         return st;
     double t1 = now_ms();
