@@ -236,7 +236,21 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_t *m, int n, int lo
         g->heights = h + 1;
         *bytes += c;
     }
-    return empty_height_build(g, bytes);
+    pp5_status_t st = empty_height_build(g, bytes);
+    if (st != PP5_OK)
+        return st;
+    /* The block map answers every query (octree_empty_node), so the per-cell
+     * tables are dropped: for CThead's levels about 37 MB of the 39. */
+    size_t cells = (size_t)nx * ny * nz;
+    free(g->empty_height);
+    g->empty_height = NULL;
+    *bytes -= cells;
+    for (int h = 0; h < g->heights; h++) {
+        free(g->occupied[h]);
+        g->occupied[h] = NULL;
+        *bytes -= (size_t)g->nx[h] * g->ny[h] * g->nz[h];
+    }
+    return PP5_OK;
 }
 
 typedef struct {

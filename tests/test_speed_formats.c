@@ -307,3 +307,88 @@ TEST(speed_packed_u8_size_is_4_to_5_bytes_per_voxel)
     mip3d_free(&m);
     volume_free(&v);
 }
+
+/* The octree answers queries from its block map alone (the per-cell tables
+ * are freed after the build): every cell of every grid against a top-down
+ * descent through an OR pyramid rebuilt here from the mip map's opacities
+ * (octree.h: cell i occupied when a voxel in [i-2, i+3]^3, or [i, i+1]^3 for
+ * the exact grid, has opacity > 0). */
+static int descend(const uint8_t *const *pyr, const int (*dims)[3], int heights, int x, int y,
+                   int z)
+{
+    for (int h = heights - 1; h >= 0; h--) {
+        int cx = x >> h, cy = y >> h, cz = z >> h;
+        if (!pyr[h][((size_t)cz * dims[h][1] + cy) * dims[h][0] + cx])
+            return h;
+    }
+    return -1;
+}
+
+static int check_grid(const mip3d_t *m, const octree_grid_t *g, int n, int lo, int hi)
+{
+    const mip3d_level_t *L = &m->level[n];
+    int dims[OCTREE_MAX_HEIGHT][3] = {{L->nx, L->ny, L->nz}};
+    uint8_t *pyr[OCTREE_MAX_HEIGHT] = {0};
+    int heights = 1;
+    pyr[0] = calloc((size_t)L->nx * L->ny * L->nz, 1);
+    for (int z = 0; z < L->nz; z++)
+        for (int y = 0; y < L->ny; y++)
+            for (int x = 0; x < L->nx; x++) {
+                bool occ = false;
+                for (int dz = -lo; dz <= hi && !occ; dz++)
+                    for (int dy = -lo; dy <= hi && !occ; dy++)
+                        for (int dx = -lo; dx <= hi && !occ; dx++) {
+                            int vx = x + dx, vy = y + dy, vz = z + dz;
+                            occ = vx >= 0 && vy >= 0 && vz >= 0 && vx < L->nx && vy < L->ny &&
+                                  vz < L->nz && mip3d_voxel_occupied(m, n, vx, vy, vz);
+                        }
+                pyr[0][((size_t)z * L->ny + y) * L->nx + x] = occ;
+            }
+    while (dims[heights - 1][0] > 1 || dims[heights - 1][1] > 1 || dims[heights - 1][2] > 1) {
+        int *p = dims[heights - 1], *c = dims[heights];
+        for (int a = 0; a < 3; a++)
+            c[a] = (p[a] + 1) / 2;
+        pyr[heights] = calloc((size_t)c[0] * c[1] * c[2], 1);
+        for (int z = 0; z < p[2]; z++)
+            for (int y = 0; y < p[1]; y++)
+                for (int x = 0; x < p[0]; x++)
+                    pyr[heights][((size_t)(z / 2) * c[1] + y / 2) * c[0] + x / 2] |=
+                        pyr[heights - 1][((size_t)z * p[1] + y) * p[0] + x];
+        heights++;
+    }
+    int wrong = 0;
+    for (int z = 0; z < L->nz; z++)
+        for (int y = 0; y < L->ny; y++)
+            for (int x = 0; x < L->nx; x++)
+                wrong += octree_cell_height(g, x, y, z) !=
+                         descend((const uint8_t *const *)pyr, (const int (*)[3])dims, heights, x,
+                                 y, z);
+    for (int h = 0; h < heights; h++)
+        free(pyr[h]);
+    return wrong;
+}
+
+TEST(speed_octree_block_map_answers_as_a_top_down_descent)
+{
+    const mip3d_format_t formats[2] = {MIP3D_F32, MIP3D_U8};
+    for (int f = 0; f < 2; f++) {
+        volume_t v;
+        mip3d_t m;
+        octree_t o;
+        shade_params_t sh;
+        build("shepp-logan", "shepp-logan", 30, SHADE_DIFFUSE_FIXED_LIGHT, formats[f], &v, &m, &o,
+              &sh);
+        int wrong = 0, empty = 0;
+        for (int n = 0; n < m.levels; n++) {
+            wrong += check_grid(&m, &o.grid[n], n, 2, 3) + check_grid(&m, &o.exact[n], n, 0, 1);
+            empty += o.exact[n].any_occupied ? 0 : 1;
+        }
+        CHECK_MSG(wrong == 0, "%s: %d cells answer differently", mip3d_format_name(formats[f]),
+                  wrong);
+        CHECK(empty < m.levels);
+        CHECK(o.grid[0].empty_height == NULL && o.grid[0].occupied[0] == NULL);
+        octree_free(&o);
+        mip3d_free(&m);
+        volume_free(&v);
+    }
+}
