@@ -129,6 +129,8 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     } else {
         memcpy(r->light_obj, s->light_dir, sizeof r->light_obj);
     }
+    if (c->projection == PROJECTION_PERSPECTIVE)
+        raycast_perspective_tables(r);
     for (int l = 0; l < RAYCAST_LUT_LEVELS; l++) {
         double spacing = (double)r->sample_step * (double)(1 << l);
         for (int i = 0; i <= RAYCAST_LUT_SIZE; i++)
@@ -398,6 +400,8 @@ void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, con
         return;
     if (r->octree && r->camera->projection == PROJECTION_PARALLEL)
         raycast_parallel_batch(r, count, px, py, level2d, rgb, counts);
+    else if (r->octree)
+        raycast_perspective_batch(r, count, px, py, level2d, rgb, counts);
     else
         reference_batch(r, count, px, py, level2d, rgb, counts);
 }
@@ -405,12 +409,14 @@ void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, con
 void raycast_trace_rays(const raycast_ctx_t *r, int count, const float *px, const float *py,
                         int level2d, float (*rgb)[3], raycast_counts_t *counts)
 {
-    bool fast = r->octree && r->camera->projection == PROJECTION_PARALLEL;
-    int chunk = fast ? RAYCAST_CHUNK : RAYCAST_BATCH;
+    bool parallel = r->camera->projection == PROJECTION_PARALLEL;
+    int chunk = r->octree ? RAYCAST_CHUNK : RAYCAST_BATCH;
     for (int i = 0; i < count; i += chunk) {
         int n = count - i < chunk ? count - i : chunk;
-        if (fast)
+        if (r->octree && parallel)
             raycast_parallel_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+        else if (r->octree)
+            raycast_perspective_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
         else
             reference_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
     }

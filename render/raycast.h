@@ -102,6 +102,12 @@ typedef struct {
     /* Parallel projection: opacity correction 1 - (1 - a)^spacing tabulated
      * per 2D level (spacing = step * 2^level), linear between entries. */
     float alpha_lut[RAYCAST_LUT_LEVELS][RAYCAST_LUT_SIZE + 1];
+    /* Perspective projection: the spacings where the floor 3D level reaches
+     * n (persp_lo) and up to which it is exactly n (persp_eq_hi), so that
+     * positions need no log2f (raycast_perspective.c); persp_tables false:
+     * not usable on this host's libm. */
+    float persp_lo[MIP3D_MAX_LEVELS + 1], persp_eq_hi[MIP3D_MAX_LEVELS];
+    bool persp_tables;
 } raycast_ctx_t;
 
 void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, const camera_t *c,

@@ -120,4 +120,13 @@ long raycast_parallel_positions(float t0, float t1, float base);
 void raycast_parallel_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                             int level2d, float (*rgb)[3], raycast_counts_t *counts);
 
+/* Fast tracer for perspective projection with the octree
+ * (raycast_perspective.c): the reference's positions and samples;
+ * count <= RAYCAST_CHUNK.  raycast_perspective_tables fills the context's
+ * level bounds (raycast_ctx_init calls it for perspective cameras). */
+void raycast_perspective_batch(const raycast_ctx_t *r, int count, const float *px,
+                               const float *py, int level2d, float (*rgb)[3],
+                               raycast_counts_t *counts);
+void raycast_perspective_tables(raycast_ctx_t *r);
+
 #endif

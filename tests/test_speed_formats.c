@@ -22,6 +22,7 @@
 typedef struct {
     float rot_x, rot_y, rot_z, step, zoom;
     int side, levels;
+    projection_t projection;
 } lanes_view_t;
 
 typedef struct {
@@ -47,6 +48,7 @@ static void trace_rows(const mip3d_t *m, const octree_t *o, const shade_params_t
     vp.rot_z_deg = c->rot_z;
     vp.sample_step = c->step;
     vp.zoom = c->zoom;
+    vp.projection = c->projection;
     camera_t cam;
     camera_setup(&cam, &vp, m, c->side, c->side);
     raycast_ctx_t simd, portable;
@@ -104,13 +106,19 @@ static void check_rows(const char *what, const mip3d_t *m, const octree_t *o,
 /* Oblique, axial, rolled, a fractional 3D level (step 0.7) and a coarse
  * step; image sides give rows longer than one 64-ray chunk. */
 static const lanes_view_t views[] = {
-    {25, 40, 0, 1.0f, 1.0f, 150, 3},
-    {0, 0, 0, 1.0f, 1.2f, 96, 2},
-    {-35, 160, 70, 1.0f, 0.8f, 80, 3},
-    {10, -30, 5, 0.7f, 1.0f, 70, 2},
-    {50, 20, 0, 2.5f, 1.7f, 70, 2},
+    {25, 40, 0, 1.0f, 1.0f, 150, 3, PROJECTION_PARALLEL},
+    {0, 0, 0, 1.0f, 1.2f, 96, 2, PROJECTION_PARALLEL},
+    {-35, 160, 70, 1.0f, 0.8f, 80, 3, PROJECTION_PARALLEL},
+    {10, -30, 5, 0.7f, 1.0f, 70, 2, PROJECTION_PARALLEL},
+    {50, 20, 0, 2.5f, 1.7f, 70, 2, PROJECTION_PARALLEL},
 };
 #define VIEW_COUNT ((int)(sizeof views / sizeof views[0]))
+
+/* Perspective (raycast_perspective.c): near and far eyes, an oblique view. */
+static const lanes_view_t perspective_views[] = {
+    {25, 40, 0, 1.0f, 1.0f, 90, 3, PROJECTION_PERSPECTIVE},
+    {-15, 200, 30, 0.8f, 1.4f, 70, 2, PROJECTION_PERSPECTIVE},
+};
 
 static void build(const char *phantom, const char *preset, int n, shade_case_t lighting,
                   mip3d_format_t format, volume_t *v, mip3d_t *m, octree_t *o, shade_params_t *sh)
@@ -147,6 +155,25 @@ TEST(speed_lanes_rows_match_portable_walk_and_reference)
         printf("   note: no AVX2 on this host; both runs take the portable walk\n");
     check_format(MIP3D_F32, SHADE_DIFFUSE_FIXED_LIGHT, "shepp-logan");
     check_format(MIP3D_F32, SHADE_SPECULAR_FIXED_LIGHT, "marschner-lobb");
+}
+
+TEST(speed_perspective_fast_tracer_matches_reference)
+{
+    volume_t v;
+    mip3d_t m;
+    octree_t o;
+    shade_params_t sh;
+    build("shepp-logan", "shepp-logan", 40, SHADE_DIFFUSE_FIXED_LIGHT, MIP3D_F32, &v, &m, &o, &sh);
+    check_rows("perspective", &m, &o, &sh, perspective_views, 2);
+    octree_free(&o);
+    mip3d_free(&m);
+    volume_free(&v);
+    build("marschner-lobb", "marschner-lobb", 33, SHADE_SPECULAR_FIXED_LIGHT, MIP3D_U8, &v, &m, &o,
+          &sh);
+    check_rows("perspective specular u8", &m, &o, &sh, perspective_views, 1);
+    octree_free(&o);
+    mip3d_free(&m);
+    volume_free(&v);
 }
 
 TEST(speed_packed_formats_fast_tracer_matches_their_reference)
