@@ -47,6 +47,9 @@ typedef struct {
     /* What each ray does with its samples (blend.h); compositing by default.
      * MIP, DEMIP and MIDA need native_renderer_build_scalar first. */
     blend_settings_t blend;
+    /* How the 3D mip map is stored (mip3d.h; F32 by default): read when the
+     * renderer is built (native_renderer_init_format), not per frame. */
+    mip3d_format_t voxel_format;
 } render_settings_t;
 
 void render_settings_defaults(render_settings_t *s);
