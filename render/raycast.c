@@ -17,6 +17,7 @@ void view_defaults(view_params_t *v)
     v->sample_step = 1.0f;
     v->early_termination = 0.95f;
     v->use_octree = true;
+    v->opacity_unit = 1.0f;
 }
 
 const char *projection_name(projection_t p)
@@ -120,6 +121,7 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     r->sample_step = v->sample_step > 0.0f ? v->sample_step : 1.0f;
     r->level3d_offset = log2f(r->sample_step);
     r->early_termination = v->early_termination;
+    r->opacity_unit = v->opacity_unit > 0.0f ? v->opacity_unit : 1.0f;
     r->simd_walk = raycast_walk_avx2_supported();
     if (s->lighting == SHADE_MOVING_OBJECT) {
         /* Light given in eye space: carry it into object space for this view. */
@@ -132,7 +134,7 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     if (c->projection == PROJECTION_PERSPECTIVE)
         raycast_perspective_tables(r);
     for (int l = 0; l < RAYCAST_LUT_LEVELS; l++) {
-        double spacing = (double)r->sample_step * (double)(1 << l);
+        double spacing = (double)r->sample_step * (double)(1 << l) / (double)r->opacity_unit;
         for (int i = 0; i <= RAYCAST_LUT_SIZE; i++)
             r->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / RAYCAST_LUT_SIZE, spacing));
     }
@@ -327,7 +329,8 @@ static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
     float comp[8];
     mip3d_sample(r->mip, s->level3d, p, comp);
     s->n_samples++;
-    if (raycast_accumulate(r, comp, s->half, s->level2d, s->perspective, s->spacing, s->acc,
+    if (raycast_accumulate(r, comp, s->half, s->level2d, s->perspective,
+                           s->spacing / r->opacity_unit, s->acc,
                            &s->acc_a)) {
         s->terminated = true;
         return false;

@@ -43,6 +43,12 @@ typedef struct {
     float sample_step;        /* object-space units between samples of a level-0 ray */
     float early_termination;  /* stop a ray when its opacity reaches this */
     bool use_octree;
+    /* The length (object units) over which a voxel's classified opacity
+     * applies (1 = one voxel): a sample standing for `spacing` units gets
+     * 1 - (1 - a)^(spacing / opacity_unit).  The scaling benchmark sets it
+     * so that a resampled volume is as opaque per millimetre as the one it
+     * came from; the command line and the machine keep 1. */
+    float opacity_unit;
 } view_params_t;
 
 void view_defaults(view_params_t *v);
@@ -94,6 +100,7 @@ typedef struct {
     float sample_step;
     float level3d_offset;      /* log2(sample_step): 3DLevel = log2(spacing) - this */
     float early_termination;
+    float opacity_unit;        /* view_params_t's (> 0) */
     /* Parallel rays walk eight positions at a time with AVX2 (set by
      * raycast_ctx_init when the host has it; false: the portable walk, the
      * same samples either way). */

@@ -30,6 +30,7 @@ static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
     L->level2d = level2d;
     L->base = r->sample_step * (float)(1 << level2d);
     L->inv_base = 1.0f / L->base;
+    L->alpha_spacing = L->base / r->opacity_unit;
     float top = (float)(r->mip->levels - 1);
     float level3d = log2f(L->base) - r->level3d_offset;
     L->level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);

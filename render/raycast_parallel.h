@@ -32,6 +32,7 @@ typedef struct {
     const octree_grid_t *blend;   /* level n's blend grid: the exact grid dilated by 2 */
     float dv[4], inv_dv[3], half[3];   /* dv[3] = 0 */
     float base, inv_base, level3d;
+    float alpha_spacing;          /* base / opacity_unit: the opacity correction's exponent */
     float scale, inv_scale;       /* 2^n and 2^-n for level-n coordinates */
     int n, level2d, dims[3];
     bool exact;                   /* integer 3D level: samples read level n only */
@@ -266,7 +267,8 @@ static inline bool draw_sample(const raycast_ctx_t *r, const par_level_t *L, par
     else
         mip3d_sample(r->mip, L->level3d, p, comp);
     s->n_samples++;
-    return raycast_accumulate(r, comp, L->half, L->level2d, false, L->base, s->acc, &s->acc_a);
+    return raycast_accumulate(r, comp, L->half, L->level2d, false, L->alpha_spacing, s->acc,
+                              &s->acc_a);
 }
 
 /* The walk with eight rays side by side (raycast_walk_avx2.c): runs every

@@ -237,7 +237,8 @@ static inline bool ray_step(const raycast_ctx_t *r, const persp_level_t *P, pers
     float comp[8];
     sample(r, level3d >= 0.0f ? level3d : level_of(r, P->top, spacing), p, comp);
     s->n_samples++;
-    if (raycast_accumulate(r, comp, s->half, P->level2d, true, spacing, s->acc, &s->acc_a)) {
+    if (raycast_accumulate(r, comp, s->half, P->level2d, true, spacing / r->opacity_unit, s->acc,
+                           &s->acc_a)) {
         s->terminated = true;
         return false;
     }

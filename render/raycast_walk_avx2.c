@@ -322,7 +322,7 @@ static inline unsigned lanes_accumulate(const raycast_ctx_t *r, const par_level_
                                                                    _CMP_GT_OQ)));
     if (!lanes_to_bits(lit))
         return 0;
-    if (L->base != 1.0f) {
+    if (L->alpha_spacing != 1.0f) {
         const float *tab = r->alpha_lut[L->level2d];
         vf x = _mm256_mul_ps(a, fset((float)RAYCAST_LUT_SIZE));
         /* Clamped below too: an opacity at or above 1 (table unused) must

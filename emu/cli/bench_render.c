@@ -5,12 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_render.h"
 #include "registry.h"
-#include "render/renderer_native.h"
 #include "render/scene.h"
-
-int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
-                     double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi);
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -20,10 +17,12 @@ static int cmp_double(const void *a, const void *b)
 
 /* Median frame time over `reps` frames (first frame not discarded: the
  * renderer keeps no per-view caches outside progressive mode). */
-static pp5_status_t bench_frames(native_renderer_t *r, const render_settings_t *s, int reps,
+pp5_status_t bench_render_frames(native_renderer_t *r, const render_settings_t *s, int reps,
                                  double *ms, render_stats_t *last)
 {
     double t[9];
+    if (reps > 9)
+        reps = 9;
     for (int i = 0; i < reps; i++) {
         image8_t img;
         pp5_status_t st = native_renderer_frame(r, s, &img, last);
@@ -65,12 +64,12 @@ static pp5_status_t bench_blends(native_renderer_t *r, const scene_t *sc, int si
     s.mode = RENDER_MODE_FULL;
     for (int i = 0; st == PP5_OK && i < 3; i++) {
         s.blend.mode = modes[i];
-        st = bench_frames(r, &s, reps, &ms[i], &stats[i]);
+        st = bench_render_frames(r, &s, reps, &ms[i], &stats[i]);
     }
     s.mode = RENDER_MODE_GAZE;
     s.blend.mode = BLEND_MIP;
     if (st == PP5_OK)
-        st = bench_frames(r, &s, reps, &gaze_ms, &gs);
+        st = bench_render_frames(r, &s, reps, &gaze_ms, &gs);
     if (st != PP5_OK)
         return st;
     const char *names[3] = {"MIP", "DEMIP", "MIDA"};
@@ -133,10 +132,10 @@ static int bench_render(const pp5_bench_opts_t *o)
         double full_ms, gaze_ms;
         render_stats_t fs, gs;
         s.mode = RENDER_MODE_FULL;
-        st = bench_frames(&r, &s, reps, &full_ms, &fs);
+        st = bench_render_frames(&r, &s, reps, &full_ms, &fs);
         s.mode = RENDER_MODE_GAZE;
         if (st == PP5_OK)
-            st = bench_frames(&r, &s, reps, &gaze_ms, &gs);
+            st = bench_render_frames(&r, &s, reps, &gaze_ms, &gs);
         if (st != PP5_OK) {
             printf("   frame failed: %s\n", pp5_error_text());
             break;
