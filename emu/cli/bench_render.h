@@ -4,6 +4,7 @@
 #define PP5_BENCH_RENDER_H
 
 #include "render/renderer_native.h"
+#include "render/scene.h"
 
 /* The comparisons with VTK and VolPack (render/peers/run_peers.sh). */
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
@@ -24,6 +25,19 @@ pp5_status_t bench_render_frames_min(native_renderer_t *r, const render_settings
  * can be read on its own.  -1 / false where the host does not offer them. */
 double bench_peak_rss_mb(void);
 bool bench_peak_rss_reset(void);
+
+/* One line: the build's peak RSS beside what it holds (volume, mip map,
+ * octree), and the mip map's bytes per level-0 voxel over all levels. */
+void bench_print_memory(const char *format, const volume_t *v, const native_renderer_t *r,
+                        double peak_rss_mb);
+
+/* bench_render_formats.c: the F32 images the reduced formats are compared
+ * with (full and gaze-directed at `side`), then U16 and U8: build, peak
+ * RSS, frame times, PSNR against F32. */
+pp5_status_t bench_format_references(native_renderer_t *r, const scene_t *sc, int side,
+                                     image8_t ref[2]);
+pp5_status_t bench_formats(const scene_t *sc, int side, int reps, const image8_t ref[2],
+                           double f32_full_ms, double f32_gaze_ms);
 
 /* Least-squares slope of log(y) against log(x): the exponent e of y ~ x^e. */
 double bench_fit_exponent(const double *x, const double *y, int n);

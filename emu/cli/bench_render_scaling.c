@@ -155,7 +155,7 @@ static void print_tables(const scaling_t *sc, const int sides[2])
             printf(" %14.1f %6.1f %9llu %11.0f", sc->vol_ms[i][k], sc->vol_cpu[i][k],
                    (unsigned long long)sc->vol_samples[i][k], per[i][k]);
         }
-        printf(" %12.0f MB\n", sc->vol_rss[k]);
+        printf(" %11.0f MiB\n", sc->vol_rss[k]);
     }
     for (int i = 0; i < 2; i++)
         printf("   fitted exponent at %dx%d, frame time ~ N^e: wall e = %.2f, cpu e = %.2f; cpu per "
