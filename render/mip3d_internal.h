@@ -17,6 +17,9 @@ typedef struct {
  * viewpoint-independent shading; mip3d.h's table). */
 void mip3d_base_voxel(const mip3d_job_t *job, int x, int y, int z, float *o);
 
+/* Storage for a level's voxels (large ones on huge pages); free() frees it. */
+void *mip3d_alloc_voxels(size_t bytes);
+
 /* mip3d_build_format for U16 and U8. */
 pp5_status_t mip3d_build_packed(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
                                 const shade_params_t *shade, mip3d_format_t format, int threads);
