@@ -123,6 +123,27 @@ static inline int mip3d_clamp_index(int i, int n)
     return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
+/* The trilinear footprint of level-n coordinates (x, y, z): the corner
+ * indices per axis clamped to the edge voxels, and the weights. */
+typedef struct {
+    int x[2], y[2], z[2];
+    float w[3];
+} mip3d_footprint_t;
+
+static inline void mip3d_footprint(const mip3d_level_t *L, float x, float y, float z,
+                                   mip3d_footprint_t *f)
+{
+    const float q[3] = {x, y, z};
+    const int dims[3] = {L->nx, L->ny, L->nz};
+    int *out[3] = {f->x, f->y, f->z};
+    for (int a = 0; a < 3; a++) {
+        int i0 = mip3d_floor_int(q[a]);
+        f->w[a] = q[a] - (float)i0;
+        out[a][0] = mip3d_clamp_index(i0, dims[a]);
+        out[a][1] = mip3d_clamp_index(i0 + 1, dims[a]);
+    }
+}
+
 /* The `stride` components of packed voxel index i, as floats. */
 static inline void mip3d_packed_voxel(const mip3d_t *m, const mip3d_packed_t *P, size_t i,
                                       float *out)
@@ -148,21 +169,15 @@ static inline void mip3d_packed_voxel(const mip3d_t *m, const mip3d_packed_t *P,
 static inline void mip3d_trilerp_packed(const mip3d_t *m, int n, float x, float y, float z,
                                         float *out)
 {
-    const mip3d_level_t *L = &m->level[n];
-    int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
-    float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
-    int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
-    int z1 = mip3d_clamp_index(z0 + 1, L->nz);
-    x0 = mip3d_clamp_index(x0, L->nx);
-    y0 = mip3d_clamp_index(y0, L->ny);
-    z0 = mip3d_clamp_index(z0, L->nz);
+    mip3d_footprint_t fp;
+    mip3d_footprint(&m->level[n], x, y, z, &fp);
     const mip3d_packed_t *P = &m->packed[n];
     const uint32_t *ox = P->offset[0], *oy = P->offset[1], *oz = P->offset[2];
-    const int xs[2] = {x0, x1}, ys[2] = {y0, y1}, zs[2] = {z0, z1};
+    const float wx = fp.w[0], wy = fp.w[1], wz = fp.w[2];
     float c[8][8];                /* corner (x fastest), component */
     for (int i = 0; i < 8; i++)
-        mip3d_packed_voxel(m, P, (size_t)ox[xs[i & 1]] + oy[ys[(i >> 1) & 1]] + oz[zs[i >> 2]],
-                           c[i]);
+        mip3d_packed_voxel(m, P, (size_t)ox[fp.x[i & 1]] + oy[fp.y[(i >> 1) & 1]] +
+                                     oz[fp.z[i >> 2]], c[i]);
     for (int k = 0; k < m->stride; k++) {
         float a = c[0][k] + wx * (c[1][k] - c[0][k]);
         float b = c[2][k] + wx * (c[3][k] - c[2][k]);
@@ -184,13 +199,10 @@ static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, floa
         return;
     }
     const mip3d_level_t *L = &m->level[n];
-    int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
-    float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
-    int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
-    int z1 = mip3d_clamp_index(z0 + 1, L->nz);
-    x0 = mip3d_clamp_index(x0, L->nx);
-    y0 = mip3d_clamp_index(y0, L->ny);
-    z0 = mip3d_clamp_index(z0, L->nz);
+    mip3d_footprint_t fp;
+    mip3d_footprint(L, x, y, z, &fp);
+    const int x0 = fp.x[0], x1 = fp.x[1], y0 = fp.y[0], y1 = fp.y[1], z0 = fp.z[0], z1 = fp.z[1];
+    const float wx = fp.w[0], wy = fp.w[1], wz = fp.w[2];
     const int s = m->stride;
     const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
     const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * s;

@@ -184,7 +184,6 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
                              ray_state_t *s)
 {
     const camera_t *cam = r->camera;
-    float o[3], d[3];
     s->acc[0] = s->acc[1] = s->acc[2] = 0.0f;
     s->acc_a = 0.0f;
     s->n_samples = s->n_skipped = 0;
@@ -195,18 +194,10 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
     s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
     s->base = 1.0f;             /* set below for rays that meet the volume */
     s->growth = 2.0f;
-    camera_ray(cam, px, py, o, d);
-    if (!raycast_clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
+    /* Level-0 voxel coordinates along the ray: ov + t * dv. */
+    if (!raycast_ray_setup(r, px, py, &s->t0, &s->t1, s->ov, s->dv, s->inv_dv, s->half))
         return false;
     s->t1_volume = s->t1;
-    /* Level-0 voxel coordinates along the ray: ov + t * dv. */
-    for (int a = 0; a < 3; a++) {
-        s->ov[a] = o[a] * cam->inv_spacing[a];
-        s->dv[a] = d[a] * cam->inv_spacing[a];
-        s->inv_dv[a] = s->dv[a] != 0.0f ? 1.0f / s->dv[a] : 0.0f;
-    }
-    float view[3] = {-d[0], -d[1], -d[2]};
-    shade_half_vector(r->light_obj, view, s->half);
     s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
     s->base = r->sample_step * (float)(1 << level2d);
     s->inv_base = 1.0f / s->base;
@@ -289,16 +280,7 @@ static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
             return true;
         }
         if (height >= 0) {
-            float t_exit = INFINITY;
-            for (int a = 0; a < 3; a++) {
-                float te = INFINITY;
-                if (s->dv[a] > 0.0f && isfinite(hi[a]))
-                    te = (hi[a] - s->ov[a]) * s->inv_dv[a];
-                else if (s->dv[a] < 0.0f && isfinite(lo[a]))
-                    te = (lo[a] - s->ov[a]) * s->inv_dv[a];
-                if (te < t_exit)
-                    t_exit = te;
-            }
+            float t_exit = raycast_node_exit(s->ov, s->dv, s->inv_dv, lo, hi);
             if (!(t_exit <= s->t1))
                 return false;     /* empty all the way out of the volume */
             /* Stay a hair inside the node so rounding never skips a

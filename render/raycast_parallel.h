@@ -127,97 +127,61 @@ static inline float node_exit(const par_level_t *L, v4f ov, v4i cv, int h, v4i *
     return te[2] < t_exit ? te[2] : t_exit;
 }
 
-/* mip3d_trilerp for 4 components (the diffuse case), reusing the floors the
- * cell test computed: the same operations in the same order per component,
- * with a constant trip count the compiler can turn into vector code (each
- * lane still does exactly the scalar arithmetic). */
-static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int fl[3],
-                            float out[4])
+/* The eight corners of the trilinear footprint at level-n coordinates q
+ * with floors fl (x fastest, then y, then z: c000, c100, c010, c110, ...),
+ * clamped to the edge voxels as mip3d_trilerp clamps them, and the weights. */
+static inline void corners(const mip3d_level_t *L, int stride, const float q[3], const int fl[3],
+                           float w[3], const float *c[8])
 {
-    int x0 = fl[0], y0 = fl[1], z0 = fl[2];
-    float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
-    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
-    const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * 4;
-    const float *c100 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * 4;
-    const float *c010 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * 4;
-    const float *c110 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * 4;
-    const float *c001 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * 4;
-    const float *c101 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * 4;
-    const float *c011 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * 4;
-    const float *c111 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * 4;
-    /* The four components side by side: lane k computes exactly
-     * mip3d_trilerp's out[k]. */
-    v4f v000, v100, v010, v110, v001, v101, v011, v111;
-    memcpy(&v000, c000, sizeof v000);
-    memcpy(&v100, c100, sizeof v100);
-    memcpy(&v010, c010, sizeof v010);
-    memcpy(&v110, c110, sizeof v110);
-    memcpy(&v001, c001, sizeof v001);
-    memcpy(&v101, c101, sizeof v101);
-    memcpy(&v011, c011, sizeof v011);
-    memcpy(&v111, c111, sizeof v111);
-    v4f a = v000 + wx * (v100 - v000);
-    v4f b = v010 + wx * (v110 - v010);
-    v4f c = v001 + wx * (v101 - v001);
-    v4f d = v011 + wx * (v111 - v011);
-    v4f e = a + wy * (b - a);
-    v4f f = c + wy * (d - c);
-    v4f res = e + wz * (f - e);
-    memcpy(out, &res, sizeof res);
+    const int dims[3] = {L->nx, L->ny, L->nz};
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        w[a] = q[a] - (float)fl[a];
+        int h = fl[a] + 1;
+        lo[a] = fl[a] < 0 ? 0 : (fl[a] >= dims[a] ? dims[a] - 1 : fl[a]);
+        hi[a] = h < 0 ? 0 : (h >= dims[a] ? dims[a] - 1 : h);
+    }
+    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny, st = (size_t)stride;
+    for (int i = 0; i < 8; i++)
+        c[i] = L->data + ((size_t)(i & 4 ? hi[2] : lo[2]) * slice +
+                          (size_t)(i & 2 ? hi[1] : lo[1]) * row +
+                          (size_t)(i & 1 ? hi[0] : lo[0])) * st;
 }
 
-/* mip3d_trilerp at level n for stride 8 (specular and moving-object cases), reusing the floors the cell
- * test computed.  Four components side by side in one vector: lane k does
- * exactly mip3d_trilerp's arithmetic for out[k], in the same order. */
-static inline v4f lerp_corners(const float *const c[8], int k, float wx, float wy, float wz)
+/* Components k..k+3 of the trilinear sample from the corners: lane j does
+ * exactly mip3d_trilerp's arithmetic for out[k + j], in the same order. */
+static inline v4f lerp_corners(const float *const c[8], int k, const float w[3])
 {
     v4f v[8];
     for (int i = 0; i < 8; i++)
         memcpy(&v[i], c[i] + k, sizeof v[i]);
-    v4f a = v[0] + wx * (v[1] - v[0]);
-    v4f b = v[2] + wx * (v[3] - v[2]);
-    v4f cc = v[4] + wx * (v[5] - v[4]);
-    v4f d = v[6] + wx * (v[7] - v[6]);
-    v4f e = a + wy * (b - a);
-    v4f f = cc + wy * (d - cc);
-    return e + wz * (f - e);
+    v4f a = v[0] + w[0] * (v[1] - v[0]);
+    v4f b = v[2] + w[0] * (v[3] - v[2]);
+    v4f cc = v[4] + w[0] * (v[5] - v[4]);
+    v4f d = v[6] + w[0] * (v[7] - v[6]);
+    v4f e = a + w[1] * (b - a);
+    v4f f = cc + w[1] * (d - cc);
+    return e + w[2] * (f - e);
 }
 
+/* mip3d_trilerp at level n for F32 levels of stride 4 or 8, reusing the
+ * floors the cell test computed. */
 static inline void trilerp(const mip3d_level_t *L, int stride, const float q[3], const int fl[3],
                            float *out)
 {
-    int x0 = fl[0], y0 = fl[1], z0 = fl[2];
-    float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
-    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny, st = (size_t)stride;
-    /* Corner order: x fastest, then y, then z (c000, c100, c010, c110, ...). */
-    const float *const c[8] = {
-        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * st,
-    };
+    float w[3];
+    const float *c[8];
+    corners(L, stride, q, fl, w, c);
     for (int k = 0; k < stride; k += 4) {
-        v4f res = lerp_corners(c, k, wx, wy, wz);
+        v4f res = lerp_corners(c, k, w);
         memcpy(out + k, &res, sizeof res);
     }
+}
+
+static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int fl[3],
+                            float out[4])
+{
+    trilerp(L, 4, q, fl, out);
 }
 
 /* Jumps from empty position k (cell c, in an empty node of height h) to the

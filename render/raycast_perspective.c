@@ -121,21 +121,12 @@ static void level_setup(const raycast_ctx_t *r, int level2d, persp_level_t *P)
 static bool ray_begin(const raycast_ctx_t *r, const persp_level_t *P, float px, float py,
                       persp_ray_t *s)
 {
-    const camera_t *cam = r->camera;
-    float o[3], d[3], t0;
+    float t0;
     memset(s, 0, sizeof *s);
     s->t1_volume = -1.0f;
-    camera_ray(cam, px, py, o, d);
-    if (!raycast_clip_box(o, d, cam->box_hi, &t0, &s->t1))
+    if (!raycast_ray_setup(r, px, py, &t0, &s->t1, s->ov, s->dv, s->inv_dv, s->half))
         return false;
     s->t1_volume = s->t1;
-    for (int a = 0; a < 3; a++) {
-        s->ov[a] = o[a] * cam->inv_spacing[a];
-        s->dv[a] = d[a] * cam->inv_spacing[a];
-        s->inv_dv[a] = s->dv[a] != 0.0f ? 1.0f / s->dv[a] : 0.0f;
-    }
-    float view[3] = {-d[0], -d[1], -d[2]};
-    shade_half_vector(r->light_obj, view, s->half);
     s->t = t0 < 1e-3f ? 1e-3f : t0;
     s->t_start = s->t;
     (void)P;
@@ -210,16 +201,7 @@ static inline bool ray_step(const raycast_ctx_t *r, const persp_level_t *P, pers
     float lo[3], hi[3];
     int height = octree_empty_node(r->octree, n, exact, p, lo, hi);
     if (height >= 0) {
-        float t_exit = INFINITY;
-        for (int a = 0; a < 3; a++) {
-            float te = INFINITY;
-            if (s->dv[a] > 0.0f && isfinite(hi[a]))
-                te = (hi[a] - s->ov[a]) * s->inv_dv[a];
-            else if (s->dv[a] < 0.0f && isfinite(lo[a]))
-                te = (lo[a] - s->ov[a]) * s->inv_dv[a];
-            if (te < t_exit)
-                t_exit = te;
-        }
+        float t_exit = raycast_node_exit(s->ov, s->dv, s->inv_dv, lo, hi);
         if (!(t_exit <= s->t1))
             return false;
         t_exit -= 1e-3f;

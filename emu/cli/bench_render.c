@@ -46,12 +46,7 @@ static pp5_status_t bench_blends(native_renderer_t *r, const scene_t *sc, int si
     if (st != PP5_OK)
         return st;
     render_settings_t s;
-    render_settings_defaults(&s);
-    s.width = s.height = size;
-    s.gaze_x = s.gaze_y = 0.5 * (size - 1);
-    s.view.rot_x_deg = sc->rot_x_deg;
-    s.view.rot_y_deg = sc->rot_y_deg;
-    s.view.rot_z_deg = sc->rot_z_deg;
+    bench_render_settings(sc, size, RENDER_MODE_FULL, &s);
     blend_settings_fill(&s.blend, sc->window_centre, sc->window_width,
                         (const float[3]){sc->rot_x_deg, sc->rot_y_deg, sc->rot_z_deg});
     printf("   blends: window C=%g W=%g (%s), value pyramid (max) built in %.0f ms; DEMIP with "
@@ -98,14 +93,8 @@ static pp5_status_t bench_size(native_renderer_t *r, const scene_t *sc, int side
                                projection_t projection, int reps, size_result_t *out)
 {
     render_settings_t s;
-    render_settings_defaults(&s);
-    s.width = s.height = side;
-    s.gaze_x = s.gaze_y = 0.5 * (side - 1);
-    s.view.rot_x_deg = sc->rot_x_deg;
-    s.view.rot_y_deg = sc->rot_y_deg;
-    s.view.rot_z_deg = sc->rot_z_deg;
+    bench_render_settings(sc, side, RENDER_MODE_FULL, &s);
     s.view.projection = projection;
-    s.mode = RENDER_MODE_FULL;
     pp5_status_t st = bench_render_frames(r, &s, reps, &out->full_ms, &out->fs);
     s.mode = RENDER_MODE_GAZE;
     if (st == PP5_OK)
@@ -155,17 +144,9 @@ static pp5_status_t bench_more(native_renderer_t *r, const scene_t *sc, const in
 static int bench_render(const pp5_bench_opts_t *o)
 {
     scene_t sc;
-    pp5_status_t st = scene_load("cthead", true, &sc);
-    if (st != PP5_OK) {
-        printf("   cannot load a volume: %s\n", pp5_error_text());
+    pp5_status_t st = bench_render_scene(&sc);
+    if (st != PP5_OK)
         return 1;
-    }
-    if (sc.fell_back)
-        printf("   note: %s\n", sc.note);
-    /* The peers' 1D value ramp (classify.h "ct-skin-ramp") on CThead, so all
-     * three renderers classify alike; the phantom keeps its own preset. */
-    if (!sc.fell_back)
-        classify_preset("ct-skin-ramp", &sc.tf);
     shade_params_t sh;
     shade_defaults(&sh);
     native_renderer_t r;

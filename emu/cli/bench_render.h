@@ -1,5 +1,6 @@
 /* bench_render.h: what the renderer benchmarks share (bench_render.c,
- * bench_render_scaling.c, bench_peers.c, bench_memory.c). */
+ * bench_render_scaling.c, bench_render_formats.c, bench_peers.c and
+ * bench_render_common.c). */
 #ifndef PP5_BENCH_RENDER_H
 #define PP5_BENCH_RENDER_H
 
@@ -9,6 +10,12 @@
 /* The comparisons with VTK and VolPack (render/peers/run_peers.sh). */
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
                      double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi);
+
+/* CThead with the peers' transfer function "ct-skin-ramp" (the
+ * Shepp-Logan phantom, noted, when the shared data is absent). */
+pp5_status_t bench_render_scene(scene_t *sc);
+/* The benchmark's frame: side x side, gaze at the centre, the scene's view. */
+void bench_render_settings(const scene_t *sc, int side, render_mode_t mode, render_settings_t *s);
 
 /* Median frame time of `reps` frames (reps <= 9); `last` gets the last
  * frame's counts. */

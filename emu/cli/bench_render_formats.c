@@ -20,24 +20,13 @@ void bench_print_memory(const char *format, const volume_t *v, const native_rend
            r->octree.bytes / (1024.0 * 1024.0));
 }
 
-static void frame_settings(const scene_t *sc, int side, render_mode_t mode, render_settings_t *s)
-{
-    render_settings_defaults(s);
-    s->width = s->height = side;
-    s->gaze_x = s->gaze_y = 0.5 * (side - 1);
-    s->view.rot_x_deg = sc->rot_x_deg;
-    s->view.rot_y_deg = sc->rot_y_deg;
-    s->view.rot_z_deg = sc->rot_z_deg;
-    s->mode = mode;
-}
-
 pp5_status_t bench_format_references(native_renderer_t *r, const scene_t *sc, int side,
                                      image8_t ref[2])
 {
     pp5_status_t st = PP5_OK;
     for (int g = 0; st == PP5_OK && g < 2; g++) {
         render_settings_t s;
-        frame_settings(sc, side, g ? RENDER_MODE_GAZE : RENDER_MODE_FULL, &s);
+        bench_render_settings(sc, side, g ? RENDER_MODE_GAZE : RENDER_MODE_FULL, &s);
         render_stats_t stats;
         st = native_renderer_frame(r, &s, &ref[g], &stats);
     }
@@ -71,7 +60,7 @@ static pp5_status_t one_format(const scene_t *sc, mip3d_format_t f, int side, in
     bench_print_memory(mip3d_format_name(f), &sc->volume, &r, rss ? bench_peak_rss_mb() : -1.0);
     for (int g = 0; st == PP5_OK && g < 2; g++) {
         render_settings_t s;
-        frame_settings(sc, side, g ? RENDER_MODE_GAZE : RENDER_MODE_FULL, &s);
+        bench_render_settings(sc, side, g ? RENDER_MODE_GAZE : RENDER_MODE_FULL, &s);
         render_stats_t stats;
         double ms;
         image8_t img;

@@ -39,13 +39,7 @@ typedef struct {
 
 static void gaze_settings(const scene_t *sc, int side, float step, render_settings_t *s)
 {
-    render_settings_defaults(s);
-    s->width = s->height = side;
-    s->gaze_x = s->gaze_y = 0.5 * (side - 1);
-    s->mode = RENDER_MODE_GAZE;
-    s->view.rot_x_deg = sc->rot_x_deg;
-    s->view.rot_y_deg = sc->rot_y_deg;
-    s->view.rot_z_deg = sc->rot_z_deg;
+    bench_render_settings(sc, side, RENDER_MODE_GAZE, s);
     s->view.sample_step = step;
     s->view.opacity_unit = step;  /* as opaque per unit of the object as at 256^3 */
 }
@@ -181,15 +175,9 @@ static void print_tables(const scaling_t *sc, const int sides[2])
 static int bench_render_scaling(const pp5_bench_opts_t *o)
 {
     scene_t sc;
-    pp5_status_t st = scene_load("cthead", true, &sc);
-    if (st != PP5_OK) {
-        printf("   cannot load a volume: %s\n", pp5_error_text());
+    pp5_status_t st = bench_render_scene(&sc);
+    if (st != PP5_OK)
         return 1;
-    }
-    if (sc.fell_back)
-        printf("   note: %s\n", sc.note);
-    else
-        classify_preset("ct-skin-ramp", &sc.tf);
     scaling_t r = {0};
     const int vols[] = {64, 128, 256, 512}, vols_quick[] = {32, 64, 128};
     const int imgs[] = {256, 512, 1024, 2048}, imgs_quick[] = {128, 256, 512};

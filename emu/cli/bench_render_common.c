@@ -1,11 +1,38 @@
-/* bench_memory.c: host memory and fitting helpers of the renderer
- * benchmarks (bench_render.h). */
+/* bench_render_common.c: what the renderer benchmarks share (bench_render.h):
+ * the scene, frame settings, timing, host memory and fitting. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
 
 #include "bench_render.h"
+
+pp5_status_t bench_render_scene(scene_t *sc)
+{
+    pp5_status_t st = scene_load("cthead", true, sc);
+    if (st != PP5_OK) {
+        printf("   cannot load a volume: %s\n", pp5_error_text());
+        return st;
+    }
+    if (sc->fell_back)
+        printf("   note: %s\n", sc->note);
+    /* The peers' 1D value ramp (classify.h "ct-skin-ramp") on CThead, so all
+     * three renderers classify alike; the phantom keeps its own preset. */
+    if (!sc->fell_back)
+        classify_preset("ct-skin-ramp", &sc->tf);
+    return PP5_OK;
+}
+
+void bench_render_settings(const scene_t *sc, int side, render_mode_t mode, render_settings_t *s)
+{
+    render_settings_defaults(s);
+    s->width = s->height = side;
+    s->gaze_x = s->gaze_y = 0.5 * (side - 1);
+    s->view.rot_x_deg = sc->rot_x_deg;
+    s->view.rot_y_deg = sc->rot_y_deg;
+    s->view.rot_z_deg = sc->rot_z_deg;
+    s->mode = mode;
+}
 
 static double process_cpu_ms(void)
 {
