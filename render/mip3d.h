@@ -27,7 +27,9 @@
 #define PP5_MIP3D_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 #include "classify.h"
 #include "shade.h"
 #include "volume.h"
@@ -35,18 +37,44 @@
 #define MIP3D_MAX_LEVELS 16
 enum { MIP3D_R = 0, MIP3D_G, MIP3D_B, MIP3D_A, MIP3D_NX, MIP3D_NY, MIP3D_NZ };
 
+/* How the components are stored.  F32 (the default) keeps the floats, x
+ * fastest; it is what the images and tests of the default path are made
+ * of.  U16 and U8 are the reduced-precision options (`--voxel-format`):
+ * each component a fixed-point fraction of its range (colour and opacity
+ * unsigned, a*N signed; rounded to nearest as the machine's RGBA8 voxels
+ * are, firmware/common/vr_shade_fixed.h), stored in 4x4x4-voxel bricks so
+ * that a trilinear footprint usually lies in one or two cache lines, and
+ * sampled by converting each corner to float (value = stored * unit) before
+ * the usual trilinear arithmetic.  The diffuse case then takes 4 (U8) or 8
+ * (U16) bytes per voxel at level 0 and 8/7 of that over all levels. */
+typedef enum { MIP3D_F32 = 0, MIP3D_U16, MIP3D_U8 } mip3d_format_t;
+#define MIP3D_BRICK 4         /* brick side of the packed formats, in voxels */
+
 typedef struct {
     int nx, ny, nz;
-    float *data;          /* nx*ny*nz*stride floats, x fastest */
+    float *data;          /* F32: nx*ny*nz*stride floats, x fastest */
 } mip3d_level_t;
+
+/* A level in U16/U8: stride components per voxel (uint16_t/int16_t or
+ * uint8_t/int8_t), voxel (x, y, z) at index offset[0][x] + offset[1][y] +
+ * offset[2][z] (bricked, so the index is a sum of one term per axis). */
+typedef struct {
+    void *data;
+    uint32_t *offset[3];
+} mip3d_packed_t;
 
 typedef struct {
     int levels;           /* number of levels, base (0) to the 1x1x1 top */
-    int stride;           /* floats per voxel: 4 or 8 (see above) */
+    int stride;           /* components per voxel: 4 or 8 (see above) */
+    mip3d_format_t format;
+    /* Packed formats: component k's value is stored * unit[k]; colour and
+     * opacity unsigned over [0, range], a*N signed over [-1, 1]. */
+    float unit[8];
     shade_case_t lighting;
     float inv_spacing[3]; /* object-space units per voxel, inverted (see shade.h) */
     float spacing[3];     /* object-space size of a level-0 voxel (smallest axis = 1) */
-    mip3d_level_t level[MIP3D_MAX_LEVELS];
+    mip3d_level_t level[MIP3D_MAX_LEVELS];   /* dims always; data in F32 */
+    mip3d_packed_t packed[MIP3D_MAX_LEVELS]; /* U16/U8 */
     size_t bytes;
 } mip3d_t;
 
@@ -54,6 +82,17 @@ typedef struct {
  * above) and filters the pyramid.  Deterministic for any thread count. */
 pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
                          const shade_params_t *shade, int threads);
+/* The same in a given storage format (F32 is mip3d_build). */
+pp5_status_t mip3d_build_format(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
+                                const shade_params_t *shade, mip3d_format_t format, int threads);
+/* "f32", "u16", "u8"; and back (false: unknown name). */
+const char *mip3d_format_name(mip3d_format_t f);
+bool mip3d_format_parse(const char *name, mip3d_format_t *f);
+/* Bytes one voxel's component takes in the format (4, 2 or 1). */
+int mip3d_format_bytes(mip3d_format_t f);
+/* Stored opacity of voxel (x, y, z) of level n is non-zero (any format):
+ * what the octree's occupancy is built from, so skipping stays exact. */
+bool mip3d_voxel_occupied(const mip3d_t *m, int n, int x, int y, int z);
 void mip3d_free(mip3d_t *m);
 /* The pyramid's shape without its data: spacing (smallest axis = 1; absent or
  * non-finite spacings count as 1), levels down to 1x1x1, each level's dims.
@@ -84,19 +123,86 @@ static inline int mip3d_clamp_index(int i, int n)
     return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
+/* The trilinear footprint of level-n coordinates (x, y, z): the corner
+ * indices per axis clamped to the edge voxels, and the weights. */
+typedef struct {
+    int x[2], y[2], z[2];
+    float w[3];
+} mip3d_footprint_t;
+
+static inline void mip3d_footprint(const mip3d_level_t *L, float x, float y, float z,
+                                   mip3d_footprint_t *f)
+{
+    const float q[3] = {x, y, z};
+    const int dims[3] = {L->nx, L->ny, L->nz};
+    int *out[3] = {f->x, f->y, f->z};
+    for (int a = 0; a < 3; a++) {
+        int i0 = mip3d_floor_int(q[a]);
+        f->w[a] = q[a] - (float)i0;
+        out[a][0] = mip3d_clamp_index(i0, dims[a]);
+        out[a][1] = mip3d_clamp_index(i0 + 1, dims[a]);
+    }
+}
+
+/* The `stride` components of packed voxel index i, as floats. */
+static inline void mip3d_packed_voxel(const mip3d_t *m, const mip3d_packed_t *P, size_t i,
+                                      float *out)
+{
+    const int s = m->stride;
+    if (m->format == MIP3D_U8) {
+        const uint8_t *u = (const uint8_t *)P->data + i * (size_t)s;
+        for (int k = 0; k < 4; k++)
+            out[k] = (float)u[k] * m->unit[k];
+        for (int k = 4; k < s; k++)
+            out[k] = (float)(int8_t)u[k] * m->unit[k];
+    } else {
+        const uint16_t *u = (const uint16_t *)P->data + i * (size_t)s;
+        for (int k = 0; k < 4; k++)
+            out[k] = (float)u[k] * m->unit[k];
+        for (int k = 4; k < s; k++)
+            out[k] = (float)(int16_t)u[k] * m->unit[k];
+    }
+}
+
+/* mip3d_trilerp for the packed formats: each of the eight corners (clamped
+ * as below) converted to float, then exactly the float arithmetic. */
+static inline void mip3d_trilerp_packed(const mip3d_t *m, int n, float x, float y, float z,
+                                        float *out)
+{
+    mip3d_footprint_t fp;
+    mip3d_footprint(&m->level[n], x, y, z, &fp);
+    const mip3d_packed_t *P = &m->packed[n];
+    const uint32_t *ox = P->offset[0], *oy = P->offset[1], *oz = P->offset[2];
+    const float wx = fp.w[0], wy = fp.w[1], wz = fp.w[2];
+    float c[8][8];                /* corner (x fastest), component */
+    for (int i = 0; i < 8; i++)
+        mip3d_packed_voxel(m, P, (size_t)ox[fp.x[i & 1]] + oy[fp.y[(i >> 1) & 1]] +
+                                     oz[fp.z[i >> 2]], c[i]);
+    for (int k = 0; k < m->stride; k++) {
+        float a = c[0][k] + wx * (c[1][k] - c[0][k]);
+        float b = c[2][k] + wx * (c[3][k] - c[2][k]);
+        float cc = c[4][k] + wx * (c[5][k] - c[4][k]);
+        float d = c[6][k] + wx * (c[7][k] - c[6][k]);
+        float e = a + wy * (b - a);
+        float f = cc + wy * (d - cc);
+        out[k] = e + wz * (f - e);
+    }
+}
+
 /* Trilinear interpolation of the `stride` components of level n at level-n
  * coordinates (x, y, z), clamping to the edge voxels. */
 static inline void mip3d_trilerp(const mip3d_t *m, int n, float x, float y, float z,
                                  float *out)
 {
+    if (m->format != MIP3D_F32) {
+        mip3d_trilerp_packed(m, n, x, y, z, out);
+        return;
+    }
     const mip3d_level_t *L = &m->level[n];
-    int x0 = mip3d_floor_int(x), y0 = mip3d_floor_int(y), z0 = mip3d_floor_int(z);
-    float wx = x - (float)x0, wy = y - (float)y0, wz = z - (float)z0;
-    int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
-    int z1 = mip3d_clamp_index(z0 + 1, L->nz);
-    x0 = mip3d_clamp_index(x0, L->nx);
-    y0 = mip3d_clamp_index(y0, L->ny);
-    z0 = mip3d_clamp_index(z0, L->nz);
+    mip3d_footprint_t fp;
+    mip3d_footprint(L, x, y, z, &fp);
+    const int x0 = fp.x[0], x1 = fp.x[1], y0 = fp.y[0], y1 = fp.y[1], z0 = fp.z[0], z1 = fp.z[1];
+    const float wx = fp.w[0], wy = fp.w[1], wz = fp.w[2];
     const int s = m->stride;
     const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
     const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * s;

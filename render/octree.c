@@ -71,7 +71,9 @@ static pp5_status_t block_map_build(octree_grid_t *g, size_t *bytes)
     g->block_ny = (ny + 3) / 4;
     g->block_nz = (nz + 3) / 4;
     size_t count = (size_t)g->block_nx * g->block_ny * g->block_nz;
-    g->block_height = malloc(count);
+    /* Three bytes of padding: the AVX2 walk reads each byte as the low
+     * byte of a 32-bit gather (raycast_walk_avx2.c). */
+    g->block_height = calloc(count + 3, 1);
     g->block_bits = calloc(count, sizeof *g->block_bits);
     if (!g->block_height || !g->block_bits)
         return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate the block map");
@@ -173,9 +175,10 @@ static pp5_status_t empty_height_build(octree_grid_t *g, size_t *bytes)
     return PP5_OK;
 }
 
-static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int stride,
-                               int lo, int hi, size_t *bytes)
+static pp5_status_t grid_build(octree_grid_t *g, const mip3d_t *m, int n, int lo, int hi,
+                               size_t *bytes)
 {
+    const mip3d_level_t *L = &m->level[n];
     int nx = L->nx, ny = L->ny, nz = L->nz;
     size_t count = (size_t)nx * (size_t)ny * (size_t)nz;
     uint8_t *a = malloc(count), *b = malloc(count);
@@ -184,8 +187,15 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
         free(b);
         return pp5_fail(PP5_E_NOMEM, "octree: cannot allocate %zu bytes", count);
     }
-    for (size_t i = 0; i < count; i++)
-        a[i] = L->data[i * (size_t)stride + MIP3D_A] > 0.0f;
+    if (m->format == MIP3D_F32) {
+        for (size_t i = 0; i < count; i++)
+            a[i] = L->data[i * (size_t)m->stride + MIP3D_A] > 0.0f;
+    } else {
+        for (int z = 0; z < nz; z++)
+            for (int y = 0; y < ny; y++)
+                for (int x = 0; x < nx; x++)
+                    a[((size_t)z * ny + y) * nx + x] = mip3d_voxel_occupied(m, n, x, y, z);
+    }
     /* Separable box dilation: x into b, y into a, z into b. */
     for (int z = 0; z < nz; z++)
         for (int y = 0; y < ny; y++) {
@@ -226,7 +236,21 @@ static pp5_status_t grid_build(octree_grid_t *g, const mip3d_level_t *L, int str
         g->heights = h + 1;
         *bytes += c;
     }
-    return empty_height_build(g, bytes);
+    pp5_status_t st = empty_height_build(g, bytes);
+    if (st != PP5_OK)
+        return st;
+    /* The block map answers every query (octree_empty_node), so the per-cell
+     * tables are dropped: for CThead's levels about 37 MB of the 39. */
+    size_t cells = (size_t)nx * ny * nz;
+    free(g->empty_height);
+    g->empty_height = NULL;
+    *bytes -= cells;
+    for (int h = 0; h < g->heights; h++) {
+        free(g->occupied[h]);
+        g->occupied[h] = NULL;
+        *bytes -= (size_t)g->nx[h] * g->ny[h] * g->nz[h];
+    }
+    return PP5_OK;
 }
 
 typedef struct {
@@ -245,8 +269,7 @@ static void octree_build_item(void *ctx, int item, int thread)
     bool exact = item % 2;
     octree_grid_t *g = exact ? &job->o->exact[n] : &job->o->grid[n];
     g->level = n;
-    job->status[item] = grid_build(g, &job->m->level[n], job->m->stride,
-                                   exact ? OCTREE_EXACT_LO : OCTREE_BLEND_LO,
+    job->status[item] = grid_build(g, job->m, n, exact ? OCTREE_EXACT_LO : OCTREE_BLEND_LO,
                                    exact ? OCTREE_EXACT_HI : OCTREE_BLEND_HI, &job->bytes[item]);
 }
 

@@ -35,6 +35,8 @@ typedef struct {
     int level;                         /* the mip level n whose samples this grid serves */
     int heights;                       /* number of pyramid levels over this cell grid */
     int nx[OCTREE_MAX_HEIGHT], ny[OCTREE_MAX_HEIGHT], nz[OCTREE_MAX_HEIGHT];
+    /* Build-time tables, freed once the block map below is made (NULL
+     * after octree_build): */
     uint8_t *occupied[OCTREE_MAX_HEIGHT]; /* 1 = may hold a non-zero sample */
     int8_t *empty_height;              /* per cell: -1 occupied, else largest empty ancestor */
     /* Extent of the occupied cells in level-0 voxel coordinates (+-INFINITY
@@ -61,6 +63,28 @@ static inline size_t octree_block_index(const octree_grid_t *g, int x, int y, in
 static inline int octree_block_bit(int x, int y, int z)
 {
     return ((z & 3) << 4) | ((y & 3) << 2) | (x & 3);
+}
+
+/* The largest empty ancestor of cell (x, y, z) (-1: occupied), from the
+ * block map alone.  An all-empty block is the aligned height-2 node, so its
+ * cells share the block's height; in a mixed block (the height-2 node and
+ * every node above it occupied) an empty cell's answer is its aligned 2x2x2
+ * node (height 1) when all eight of its bits are clear, else the cell
+ * itself (0).  Cells beyond the grid's edge have clear bits, as the
+ * pyramid counts them empty. */
+static inline int octree_cell_height(const octree_grid_t *g, int x, int y, int z)
+{
+    size_t b = octree_block_index(g, x, y, z);
+    int h = g->block_height[b];
+    if (h >= 0)
+        return h;
+    uint64_t bits = g->block_bits[b];
+    int bit = octree_block_bit(x, y, z);
+    if ((bits >> bit) & 1)
+        return -1;
+    /* The 2x2x2 node's bits: x pair 0x3, y pair 0x33, z pair 0x330033. */
+    uint64_t node = (uint64_t)0x330033 << octree_block_bit(x & ~1, y & ~1, z & ~1);
+    return (bits & node) == 0 && g->heights > 1 ? 1 : 0;
 }
 
 typedef struct {
@@ -90,7 +114,7 @@ static inline int octree_empty_node(const octree_t *o, int n, bool exact, const 
         int i = mip3d_floor_int(mip3d_level_coord(p[a], n));
         c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
     }
-    int h = g->empty_height[((size_t)c[2] * g->ny[0] + c[1]) * g->nx[0] + c[0]];
+    int h = octree_cell_height(g, c[0], c[1], c[2]);
     if (h < 0)
         return -1;
     float scale = (float)(1 << n);

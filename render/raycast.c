@@ -3,6 +3,7 @@
 #include "raycast.h"
 
 #include "raycast_internal.h"
+#include "raycast_parallel.h"
 
 #include <math.h>
 #include <string.h>
@@ -16,6 +17,7 @@ void view_defaults(view_params_t *v)
     v->sample_step = 1.0f;
     v->early_termination = 0.95f;
     v->use_octree = true;
+    v->opacity_unit = 1.0f;
 }
 
 const char *projection_name(projection_t p)
@@ -119,6 +121,8 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     r->sample_step = v->sample_step > 0.0f ? v->sample_step : 1.0f;
     r->level3d_offset = log2f(r->sample_step);
     r->early_termination = v->early_termination;
+    r->opacity_unit = v->opacity_unit > 0.0f ? v->opacity_unit : 1.0f;
+    r->simd_walk = raycast_walk_avx2_supported();
     if (s->lighting == SHADE_MOVING_OBJECT) {
         /* Light given in eye space: carry it into object space for this view. */
         for (int a = 0; a < 3; a++)
@@ -127,8 +131,10 @@ void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, con
     } else {
         memcpy(r->light_obj, s->light_dir, sizeof r->light_obj);
     }
+    if (c->projection == PROJECTION_PERSPECTIVE)
+        raycast_perspective_tables(r);
     for (int l = 0; l < RAYCAST_LUT_LEVELS; l++) {
-        double spacing = (double)r->sample_step * (double)(1 << l);
+        double spacing = (double)r->sample_step * (double)(1 << l) / (double)r->opacity_unit;
         for (int i = 0; i <= RAYCAST_LUT_SIZE; i++)
             r->alpha_lut[l][i] = (float)(1.0 - pow(1.0 - (double)i / RAYCAST_LUT_SIZE, spacing));
     }
@@ -178,7 +184,6 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
                              ray_state_t *s)
 {
     const camera_t *cam = r->camera;
-    float o[3], d[3];
     s->acc[0] = s->acc[1] = s->acc[2] = 0.0f;
     s->acc_a = 0.0f;
     s->n_samples = s->n_skipped = 0;
@@ -189,18 +194,10 @@ static inline bool ray_begin(const raycast_ctx_t *r, float px, float py, int lev
     s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
     s->base = 1.0f;             /* set below for rays that meet the volume */
     s->growth = 2.0f;
-    camera_ray(cam, px, py, o, d);
-    if (!raycast_clip_box(o, d, cam->box_hi, &s->t0, &s->t1))
+    /* Level-0 voxel coordinates along the ray: ov + t * dv. */
+    if (!raycast_ray_setup(r, px, py, &s->t0, &s->t1, s->ov, s->dv, s->inv_dv, s->half))
         return false;
     s->t1_volume = s->t1;
-    /* Level-0 voxel coordinates along the ray: ov + t * dv. */
-    for (int a = 0; a < 3; a++) {
-        s->ov[a] = o[a] * cam->inv_spacing[a];
-        s->dv[a] = d[a] * cam->inv_spacing[a];
-        s->inv_dv[a] = s->dv[a] != 0.0f ? 1.0f / s->dv[a] : 0.0f;
-    }
-    float view[3] = {-d[0], -d[1], -d[2]};
-    shade_half_vector(r->light_obj, view, s->half);
     s->perspective = cam->projection == PROJECTION_PERSPECTIVE;
     s->base = r->sample_step * (float)(1 << level2d);
     s->inv_base = 1.0f / s->base;
@@ -283,16 +280,7 @@ static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
             return true;
         }
         if (height >= 0) {
-            float t_exit = INFINITY;
-            for (int a = 0; a < 3; a++) {
-                float te = INFINITY;
-                if (s->dv[a] > 0.0f && isfinite(hi[a]))
-                    te = (hi[a] - s->ov[a]) * s->inv_dv[a];
-                else if (s->dv[a] < 0.0f && isfinite(lo[a]))
-                    te = (lo[a] - s->ov[a]) * s->inv_dv[a];
-                if (te < t_exit)
-                    t_exit = te;
-            }
+            float t_exit = raycast_node_exit(s->ov, s->dv, s->inv_dv, lo, hi);
             if (!(t_exit <= s->t1))
                 return false;     /* empty all the way out of the volume */
             /* Stay a hair inside the node so rounding never skips a
@@ -323,7 +311,8 @@ static inline bool ray_step(const raycast_ctx_t *r, ray_state_t *s)
     float comp[8];
     mip3d_sample(r->mip, s->level3d, p, comp);
     s->n_samples++;
-    if (raycast_accumulate(r, comp, s->half, s->level2d, s->perspective, s->spacing, s->acc,
+    if (raycast_accumulate(r, comp, s->half, s->level2d, s->perspective,
+                           s->spacing / r->opacity_unit, s->acc,
                            &s->acc_a)) {
         s->terminated = true;
         return false;
@@ -396,8 +385,26 @@ void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, con
         return;
     if (r->octree && r->camera->projection == PROJECTION_PARALLEL)
         raycast_parallel_batch(r, count, px, py, level2d, rgb, counts);
+    else if (r->octree)
+        raycast_perspective_batch(r, count, px, py, level2d, rgb, counts);
     else
         reference_batch(r, count, px, py, level2d, rgb, counts);
+}
+
+void raycast_trace_rays(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                        int level2d, float (*rgb)[3], raycast_counts_t *counts)
+{
+    bool parallel = r->camera->projection == PROJECTION_PARALLEL;
+    int chunk = r->octree ? RAYCAST_CHUNK : RAYCAST_BATCH;
+    for (int i = 0; i < count; i += chunk) {
+        int n = count - i < chunk ? count - i : chunk;
+        if (r->octree && parallel)
+            raycast_parallel_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+        else if (r->octree)
+            raycast_perspective_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+        else
+            reference_batch(r, n, px + i, py + i, level2d, rgb + i, counts);
+    }
 }
 
 void raycast_trace(const raycast_ctx_t *r, float px, float py, int level2d, float rgb[3],

@@ -43,6 +43,12 @@ typedef struct {
     float sample_step;        /* object-space units between samples of a level-0 ray */
     float early_termination;  /* stop a ray when its opacity reaches this */
     bool use_octree;
+    /* The length (object units) over which a voxel's classified opacity
+     * applies (1 = one voxel): a sample standing for `spacing` units gets
+     * 1 - (1 - a)^(spacing / opacity_unit).  The scaling benchmark sets it
+     * so that a resampled volume is as opaque per millimetre as the one it
+     * came from; the command line and the machine keep 1. */
+    float opacity_unit;
 } view_params_t;
 
 void view_defaults(view_params_t *v);
@@ -94,10 +100,21 @@ typedef struct {
     float sample_step;
     float level3d_offset;      /* log2(sample_step): 3DLevel = log2(spacing) - this */
     float early_termination;
+    float opacity_unit;        /* view_params_t's (> 0) */
+    /* Parallel rays walk eight positions at a time with AVX2 (set by
+     * raycast_ctx_init when the host has it; false: the portable walk, the
+     * same samples either way). */
+    bool simd_walk;
     float light_obj[3];        /* light direction in object space for this frame */
     /* Parallel projection: opacity correction 1 - (1 - a)^spacing tabulated
      * per 2D level (spacing = step * 2^level), linear between entries. */
     float alpha_lut[RAYCAST_LUT_LEVELS][RAYCAST_LUT_SIZE + 1];
+    /* Perspective projection: the spacings where the floor 3D level reaches
+     * n (persp_lo) and up to which it is exactly n (persp_eq_hi), so that
+     * positions need no log2f (raycast_perspective.c); persp_tables false:
+     * not usable on this host's libm. */
+    float persp_lo[MIP3D_MAX_LEVELS + 1], persp_eq_hi[MIP3D_MAX_LEVELS];
+    bool persp_tables;
 } raycast_ctx_t;
 
 void raycast_ctx_init(raycast_ctx_t *r, const mip3d_t *m, const octree_t *o, const camera_t *c,
@@ -122,6 +139,13 @@ void raycast_trace_reference(const raycast_ctx_t *r, float px, float py, int lev
 #define RAYCAST_BATCH 8
 void raycast_trace_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                          int level2d, float (*rgb)[3], raycast_counts_t *counts);
+
+/* The same for any number of rays of one 2D level (a texel row): parallel
+ * rays go RAYCAST_CHUNK at a time through the fast tracer, whose lanes take
+ * a new ray as soon as one ends; each result is still raycast_trace's. */
+#define RAYCAST_CHUNK 64
+void raycast_trace_rays(const raycast_ctx_t *r, int count, const float *px, const float *py,
+                        int level2d, float (*rgb)[3], raycast_counts_t *counts);
 
 /* Front-to-back compositing of one opacity-weighted sample (c = a*colour). */
 static inline void raycast_composite(float acc_rgb[3], float *acc_a, const float c[3], float a)

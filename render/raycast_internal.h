@@ -56,6 +56,46 @@ static inline bool raycast_clip_box(const float o[3], const float d[3], const fl
     return a <= b;
 }
 
+/* The ray through image point (px, py) clipped to the volume ([t0, t1];
+ * false: it misses), in level-0 voxel coordinates ov + t dv, with 1/dv (0
+ * where dv is 0) and the shading half vector for its direction. */
+static inline bool raycast_ray_setup(const raycast_ctx_t *r, float px, float py, float *t0,
+                                     float *t1, float ov[3], float dv[3], float inv_dv[3],
+                                     float half[3])
+{
+    const camera_t *cam = r->camera;
+    float o[3], d[3];
+    camera_ray(cam, px, py, o, d);
+    if (!raycast_clip_box(o, d, cam->box_hi, t0, t1))
+        return false;
+    for (int a = 0; a < 3; a++) {
+        ov[a] = o[a] * cam->inv_spacing[a];
+        dv[a] = d[a] * cam->inv_spacing[a];
+        inv_dv[a] = dv[a] != 0.0f ? 1.0f / dv[a] : 0.0f;
+    }
+    float view[3] = {-d[0], -d[1], -d[2]};
+    shade_half_vector(r->light_obj, view, half);
+    return true;
+}
+
+/* Where the ray ov + t dv leaves the box [lo, hi] of an empty node, going
+ * forward (faces at +-INFINITY never: INFINITY when none is crossed). */
+static inline float raycast_node_exit(const float ov[3], const float dv[3], const float inv_dv[3],
+                                      const float lo[3], const float hi[3])
+{
+    float t_exit = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        float te = INFINITY;
+        if (dv[a] > 0.0f && isfinite(hi[a]))
+            te = (hi[a] - ov[a]) * inv_dv[a];
+        else if (dv[a] < 0.0f && isfinite(lo[a]))
+            te = (lo[a] - ov[a]) * inv_dv[a];
+        if (te < t_exit)
+            t_exit = te;
+    }
+    return t_exit;
+}
+
 /* Viewpoint-dependent shading of one sample's components: writes the
  * opacity-weighted colour and returns the opacity. */
 static inline float raycast_shade_sample(const raycast_ctx_t *r, const float *s,
@@ -116,8 +156,17 @@ static inline bool raycast_accumulate(const raycast_ctx_t *r, const float *comp,
 long raycast_parallel_positions(float t0, float t1, float base);
 
 /* Fast tracer for parallel projection with the octree (raycast_parallel.c):
- * draws exactly the samples of the reference tracer. */
+ * draws exactly the samples of the reference tracer; count <= RAYCAST_CHUNK. */
 void raycast_parallel_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                             int level2d, float (*rgb)[3], raycast_counts_t *counts);
+
+/* Fast tracer for perspective projection with the octree
+ * (raycast_perspective.c): the reference's positions and samples;
+ * count <= RAYCAST_CHUNK.  raycast_perspective_tables fills the context's
+ * level bounds (raycast_ctx_init calls it for perspective cameras). */
+void raycast_perspective_batch(const raycast_ctx_t *r, int count, const float *px,
+                               const float *py, int level2d, float (*rgb)[3],
+                               raycast_counts_t *counts);
+void raycast_perspective_tables(raycast_ctx_t *r);
 
 #endif

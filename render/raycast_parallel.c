@@ -12,51 +12,10 @@
  * it passes: each cell coordinate of a position is a monotonic function of k
  * (every float operation in it is monotonic), so if the first and last
  * positions of a run lie in the node's box, all between do too. */
-#include "raycast_internal.h"
+#include "raycast_parallel.h"
 
 #include <math.h>
 #include <string.h>
-
-/* Three axes side by side (lane 3 unused): each lane does exactly the
- * scalar operations (no fused multiply-add in ISO C mode). */
-typedef float v4f __attribute__((vector_size(16)));
-typedef int v4i __attribute__((vector_size(16)));
-
-/* What all parallel rays of one 2D level share (the reference recomputes it
- * per ray, with the same expressions). */
-typedef struct {
-    const octree_grid_t *g;
-    const octree_grid_t *blend;   /* level n's blend grid: the exact grid dilated by 2 */
-    float dv[4], inv_dv[3], half[3];   /* dv[3] = 0 */
-    float base, inv_base, level3d;
-    float scale, inv_scale;       /* 2^n and 2^-n for level-n coordinates */
-    int n, level2d, dims[3];
-    bool exact;                   /* integer 3D level: samples read level n only */
-    v4f dv_v, inv_dv_v;           /* dv, inv_dv as vectors (lane 3 = 0) */
-    v4i dir_pos, dir_neg;         /* lanes moving up / down the axis (-1 = yes) */
-    v4i dims_v, top_v;            /* dims and dims - 1 */
-} par_level_t;
-
-typedef struct {
-    float ov[4];                  /* level-0 voxel coordinates of the origin; [3] = 0 */
-    float t0, t1_volume;
-    long k, k_last;               /* next position; last position of the window */
-    long k_end;                   /* positions visited by a ray without skipping */
-    float acc[3], acc_a;
-    uint64_t n_samples;
-} par_ray_t;
-
-/* Minimum and maximum of two numbers known not to be NaN (fminf and fmaxf
- * are library calls at -O2). */
-static inline float min_f(float a, float b)
-{
-    return b < a ? b : a;
-}
-
-static inline float max_f(float a, float b)
-{
-    return b > a ? b : a;
-}
 
 static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
 {
@@ -71,6 +30,7 @@ static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
     L->level2d = level2d;
     L->base = r->sample_step * (float)(1 << level2d);
     L->inv_base = 1.0f / L->base;
+    L->alpha_spacing = L->base / r->opacity_unit;
     float top = (float)(r->mip->levels - 1);
     float level3d = log2f(L->base) - r->level3d_offset;
     L->level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
@@ -92,21 +52,6 @@ static void level_setup(const raycast_ctx_t *r, int level2d, par_level_t *L)
         L->dims_v[a] = axis ? L->dims[a] : 1;
         L->top_v[a] = axis ? L->dims[a] - 1 : 0;
     }
-}
-
-/* raycast_parallel_positions with a float first guess: the adjustment
- * loops evaluate the tracer's exact expression, so the count is the same. */
-static inline long positions(const par_level_t *L, float t0, float t1)
-{
-    if (!(t0 <= t1))
-        return 0;
-    float est = (t1 - t0) * L->inv_base;
-    long k = est < 1e9f ? (long)est : 1000000000L;
-    while (k > 0 && t0 + (float)k * L->base > t1)
-        k--;
-    while (t0 + (float)(k + 1) * L->base <= t1)
-        k++;
-    return k + 1;
 }
 
 /* The reference's ray_begin for this ray: volume clip, then the window of
@@ -158,178 +103,6 @@ static bool ray_begin(const raycast_ctx_t *r, const par_level_t *L, float px, fl
     return s->k <= s->k_last;
 }
 
-/* Level-n cell of position k: continuous coordinates q (as mip3d_sample
- * computes them), their floors, and the floors clamped to the grid (as
- * octree_empty_node clamps them).  Returns the level-0 position in p. */
-/* Clamped level-n cell (lanes 0-2) of level-0 position ov + t * dv, with
- * the continuous coordinates and floors on the way. */
-static inline v4i cell_of(const par_level_t *L, v4f ov, float t, v4f *pv, v4f *qv, v4i *flv)
-{
-    v4f tv = {t, t, t, t};
-    *pv = ov + tv * L->dv_v;
-    *qv = (*pv + 0.5f) * L->inv_scale - 0.5f;
-    v4i iv = __builtin_convertvector(*qv, v4i);
-    *flv = iv + (__builtin_convertvector(iv, v4f) > *qv);   /* -1 where truncation rounded up */
-    v4i cv = *flv & ~(*flv < 0);
-    v4i over = cv > L->top_v;
-    return (cv & ~over) | (L->top_v & over);
-}
-
-static inline void position_cell(const par_level_t *L, const par_ray_t *s, long k, float p[3],
-                                 float q[3], int fl[3], int c[3])
-{
-    v4f ov, pv, qv;
-    v4i flv;
-    memcpy(&ov, s->ov, sizeof ov);
-    v4i cv = cell_of(L, ov, s->t0 + (float)k * L->base, &pv, &qv, &flv);
-    for (int a = 0; a < 3; a++) {
-        p[a] = pv[a];
-        q[a] = qv[a];
-        fl[a] = flv[a];
-        c[a] = cv[a];
-    }
-}
-
-/* Where the ray ov + t * dv leaves the node of height h holding cell c
- * (faces on the grid's edge count as infinitely far); the node's cell
- * range [first, last) per lane. */
-static inline float node_exit(const par_level_t *L, v4f ov, v4i cv, int h, v4i *first,
-                              v4i *last)
-{
-    *first = (cv >> h) << h;
-    *last = *first + (1 << h);
-    v4i cell = (*last & L->dir_pos) | (*first & ~L->dir_pos);
-    v4i valid = (L->dir_pos & (*last < L->dims_v)) | (L->dir_neg & (*first > 0));
-    v4f bound = (__builtin_convertvector(cell, v4f) + 0.5f) * L->scale - 0.5f;
-    v4f te = (bound - ov) * L->inv_dv_v;
-    v4f inf = {INFINITY, INFINITY, INFINITY, INFINITY};
-    te = (v4f)(((v4i)te & valid) | ((v4i)inf & ~valid));
-    float t_exit = te[0] < te[1] ? te[0] : te[1];
-    return te[2] < t_exit ? te[2] : t_exit;
-}
-
-/* mip3d_trilerp for 4 components (the diffuse case), reusing the floors the
- * cell test computed: the same operations in the same order per component,
- * with a constant trip count the compiler can turn into vector code (each
- * lane still does exactly the scalar arithmetic). */
-static inline void trilerp4(const mip3d_level_t *L, const float q[3], const int fl[3],
-                            float out[4])
-{
-    int x0 = fl[0], y0 = fl[1], z0 = fl[2];
-    float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
-    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny;
-    const float *c000 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * 4;
-    const float *c100 = L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * 4;
-    const float *c010 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * 4;
-    const float *c110 = L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * 4;
-    const float *c001 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * 4;
-    const float *c101 = L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * 4;
-    const float *c011 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * 4;
-    const float *c111 = L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * 4;
-    /* The four components side by side: lane k computes exactly
-     * mip3d_trilerp's out[k]. */
-    v4f v000, v100, v010, v110, v001, v101, v011, v111;
-    memcpy(&v000, c000, sizeof v000);
-    memcpy(&v100, c100, sizeof v100);
-    memcpy(&v010, c010, sizeof v010);
-    memcpy(&v110, c110, sizeof v110);
-    memcpy(&v001, c001, sizeof v001);
-    memcpy(&v101, c101, sizeof v101);
-    memcpy(&v011, c011, sizeof v011);
-    memcpy(&v111, c111, sizeof v111);
-    v4f a = v000 + wx * (v100 - v000);
-    v4f b = v010 + wx * (v110 - v010);
-    v4f c = v001 + wx * (v101 - v001);
-    v4f d = v011 + wx * (v111 - v011);
-    v4f e = a + wy * (b - a);
-    v4f f = c + wy * (d - c);
-    v4f res = e + wz * (f - e);
-    memcpy(out, &res, sizeof res);
-}
-
-/* mip3d_trilerp at level n for stride 8 (specular and moving-object cases), reusing the floors the cell
- * test computed.  Four components side by side in one vector: lane k does
- * exactly mip3d_trilerp's arithmetic for out[k], in the same order. */
-static inline v4f lerp_corners(const float *const c[8], int k, float wx, float wy, float wz)
-{
-    v4f v[8];
-    for (int i = 0; i < 8; i++)
-        memcpy(&v[i], c[i] + k, sizeof v[i]);
-    v4f a = v[0] + wx * (v[1] - v[0]);
-    v4f b = v[2] + wx * (v[3] - v[2]);
-    v4f cc = v[4] + wx * (v[5] - v[4]);
-    v4f d = v[6] + wx * (v[7] - v[6]);
-    v4f e = a + wy * (b - a);
-    v4f f = cc + wy * (d - cc);
-    return e + wz * (f - e);
-}
-
-static inline void trilerp(const mip3d_level_t *L, int stride, const float q[3], const int fl[3],
-                           float *out)
-{
-    int x0 = fl[0], y0 = fl[1], z0 = fl[2];
-    float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
-    int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
-    x0 = x0 < 0 ? 0 : (x0 >= L->nx ? L->nx - 1 : x0);
-    x1 = x1 < 0 ? 0 : (x1 >= L->nx ? L->nx - 1 : x1);
-    y0 = y0 < 0 ? 0 : (y0 >= L->ny ? L->ny - 1 : y0);
-    y1 = y1 < 0 ? 0 : (y1 >= L->ny ? L->ny - 1 : y1);
-    z0 = z0 < 0 ? 0 : (z0 >= L->nz ? L->nz - 1 : z0);
-    z1 = z1 < 0 ? 0 : (z1 >= L->nz ? L->nz - 1 : z1);
-    const size_t row = (size_t)L->nx, slice = (size_t)L->nx * (size_t)L->ny, st = (size_t)stride;
-    /* Corner order: x fastest, then y, then z (c000, c100, c010, c110, ...). */
-    const float *const c[8] = {
-        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x0) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y0 * row + (size_t)x1) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x0) * st,
-        L->data + ((size_t)z0 * slice + (size_t)y1 * row + (size_t)x1) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x0) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y0 * row + (size_t)x1) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x0) * st,
-        L->data + ((size_t)z1 * slice + (size_t)y1 * row + (size_t)x1) * st,
-    };
-    for (int k = 0; k < stride; k += 4) {
-        v4f res = lerp_corners(c, k, wx, wy, wz);
-        memcpy(out + k, &res, sizeof res);
-    }
-}
-
-/* Jumps from empty position k (cell c, in an empty node of height h) to the
- * first position beyond the node, or ends the window. */
-static inline void jump(const par_level_t *L, par_ray_t *s, const int c[3], int h)
-{
-    v4f ov;
-    memcpy(&ov, s->ov, sizeof ov);
-    v4i cv = {c[0], c[1], c[2], 0}, first, last;
-    float t_exit = node_exit(L, ov, cv, h, &first, &last);
-    long k = s->k, k_new = s->k_last + 1;
-    /* A hair inside the node, so that the check below rarely fails. */
-    float t_in = t_exit - 1e-3f;
-    if (t_in - s->t0 < (float)(k_new - k) * L->base + (float)k * L->base) {
-        long kc = -(long)mip3d_floor_int(-(t_in - s->t0) * L->inv_base);
-        if (kc < k_new)
-            k_new = kc;
-    }
-    if (k_new > k + 1) {
-        v4f pv, qv;
-        v4i flv;
-        v4i cl = cell_of(L, ov, s->t0 + (float)(k_new - 1) * L->base, &pv, &qv, &flv);
-        v4i outside = (cl < first) | (cl >= last);
-        if (outside[0] | outside[1] | outside[2])
-            k_new = k + 1;        /* rounding: fall back to one step */
-    } else {
-        k_new = k + 1;
-    }
-    s->k = k_new;
-}
-
 /* Visits position k: steps over it, jumps past its empty node, or draws,
  * shades and composites its sample.  False when the ray is finished. */
 static inline bool ray_step(const raycast_ctx_t *r, const par_level_t *L, par_ray_t *s)
@@ -350,17 +123,7 @@ static inline bool ray_step(const raycast_ctx_t *r, const par_level_t *L, par_ra
         s->k++;
         return true;
     }
-    float comp[8];
-    if (L->exact && r->mip->stride == 4)
-        trilerp4(&r->mip->level[L->n], q, fl, comp);
-    else if (L->exact && r->mip->stride == 8)
-        trilerp(&r->mip->level[L->n], 8, q, fl, comp);
-    else if (L->exact)
-        mip3d_trilerp(r->mip, L->n, q[0], q[1], q[2], comp);
-    else
-        mip3d_sample(r->mip, L->level3d, p, comp);
-    s->n_samples++;
-    if (raycast_accumulate(r, comp, L->half, L->level2d, false, L->base, s->acc, &s->acc_a)) {
+    if (draw_sample(r, L, s, p, q, fl)) {
         s->k_end = s->k + 1;
         return false;
     }
@@ -493,26 +256,40 @@ static void packets_skip(const par_level_t *L, par_ray_t *s, const bool *live, i
     }
 }
 
+/* The portable walk: up to RAYCAST_BATCH rays advanced one position each in
+ * turns, so that their latency chains overlap. */
+static void walk_in_turns(const raycast_ctx_t *r, const par_level_t *L, par_ray_t *s,
+                          const bool *live_in, int count)
+{
+    bool live[RAYCAST_BATCH];
+    int remaining = 0;
+    for (int i = 0; i < count; i++)
+        remaining += live[i] = live_in[i];
+    while (remaining > 0)
+        for (int i = 0; i < count; i++)
+            if (live[i] && !ray_step(r, L, &s[i])) {
+                live[i] = false;
+                remaining--;
+            }
+}
+
 void raycast_parallel_batch(const raycast_ctx_t *r, int count, const float *px, const float *py,
                             int level2d, float (*rgb)[3], raycast_counts_t *counts)
 {
     par_level_t L;
     level_setup(r, level2d, &L);
-    par_ray_t s[RAYCAST_BATCH];
-    bool live[RAYCAST_BATCH];
-    int remaining = 0;
-    for (int i = 0; i < count; i++) {
+    par_ray_t s[RAYCAST_CHUNK];
+    bool live[RAYCAST_CHUNK];
+    for (int i = 0; i < count; i++)
         live[i] = ray_begin(r, &L, px[i], py[i], &s[i]);
-        remaining += live[i];
-    }
     if (L.exact && count > 1)
         packets_skip(&L, s, live, count);
-    while (remaining > 0)
-        for (int i = 0; i < count; i++)
-            if (live[i] && !ray_step(r, &L, &s[i])) {
-                live[i] = false;
-                remaining--;
-            }
+    if (r->simd_walk)
+        raycast_walk_avx2(r, &L, s, live, count);
+    else
+        for (int i0 = 0; i0 < count; i0 += RAYCAST_BATCH)
+            walk_in_turns(r, &L, s + i0, live + i0,
+                          count - i0 < RAYCAST_BATCH ? count - i0 : RAYCAST_BATCH);
     for (int i = 0; i < count; i++)
         ray_end(&L, &s[i], rgb[i], counts);
 }

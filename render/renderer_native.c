@@ -43,12 +43,19 @@ const char *render_mode_name(render_mode_t m)
 pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads)
 {
+    return native_renderer_init_format(r, v, tf, shade, MIP3D_F32, threads);
+}
+
+pp5_status_t native_renderer_init_format(native_renderer_t *r, const volume_t *v,
+                                         const classify_tf_t *tf, const shade_params_t *shade,
+                                         mip3d_format_t format, int threads)
+{
     memset(r, 0, sizeof *r);
     r->tf = *tf;
     r->shade = *shade;
     r->threads = threads > 0 ? threads : parallel_default_threads();
     double t0 = now_ms();
-    pp5_status_t st = mip3d_build(&r->mip, v, &r->tf, &r->shade, r->threads);
+    pp5_status_t st = mip3d_build_format(&r->mip, v, &r->tf, &r->shade, format, r->threads);
     if (st != PP5_OK)
         return st;
     double t1 = now_ms();
@@ -199,9 +206,11 @@ static void job_cast_row(void *ctx, int item, int thread)
     int j = item - job->row_level[l];
     size_t base = (size_t)j * m->w[l];
     /* Gather the row's uncast, needed texels and trace them in batches. */
-    float px[RAYCAST_BATCH], py[RAYCAST_BATCH], rgb[RAYCAST_BATCH][3];
+    float px[RAYCAST_CHUNK], py[RAYCAST_CHUNK], rgb[RAYCAST_CHUNK][3];
     float guess = 0.0f;           /* MIP/DEMIP threshold guess along the row */
-    int idx[RAYCAST_BATCH], n = 0;
+    int idx[RAYCAST_CHUNK], n = 0;
+    bool composite = job->s->blend.mode == BLEND_COMPOSITE;
+    int cap = composite ? RAYCAST_CHUNK : RAYCAST_BATCH;
     for (int i = 0; i <= m->w[l]; i++) {
         if (i < m->w[l]) {
             if (!m->need[l][base + i] || m->cast[l][base + i])
@@ -209,9 +218,9 @@ static void job_cast_row(void *ctx, int item, int thread)
             mip2d_texel_point(l, i, j, &px[n], &py[n]);
             idx[n++] = i;
         }
-        if (n == RAYCAST_BATCH || (i == m->w[l] && n > 0)) {
-            if (job->s->blend.mode == BLEND_COMPOSITE)
-                raycast_trace_batch(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
+        if (n == cap || (i == m->w[l] && n > 0)) {
+            if (composite)
+                raycast_trace_rays(&job->ray, n, px, py, l, rgb, &job->counts[thread].c);
             else
                 blend_trace_batch(&job->blend, n, px, py, l, rgb, &guess,
                                   &job->counts[thread].c);

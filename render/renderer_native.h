@@ -47,6 +47,9 @@ typedef struct {
     /* What each ray does with its samples (blend.h); compositing by default.
      * MIP, DEMIP and MIDA need native_renderer_build_scalar first. */
     blend_settings_t blend;
+    /* How the 3D mip map is stored (mip3d.h; F32 by default): read when the
+     * renderer is built (native_renderer_init_format), not per frame. */
+    mip3d_format_t voxel_format;
 } render_settings_t;
 
 void render_settings_defaults(render_settings_t *s);
@@ -86,6 +89,11 @@ typedef struct {
 /* Builds the 3D mip map and octree (the per-volume preprocessing). */
 pp5_status_t native_renderer_init(native_renderer_t *r, const volume_t *v, const classify_tf_t *tf,
                            const shade_params_t *shade, int threads);
+/* The same with the mip map in a reduced-precision format (mip3d.h: U16,
+ * U8; F32 is native_renderer_init). */
+pp5_status_t native_renderer_init_format(native_renderer_t *r, const volume_t *v,
+                                         const classify_tf_t *tf, const shade_params_t *shade,
+                                         mip3d_format_t format, int threads);
 void native_renderer_free(native_renderer_t *r);
 /* Builds (or rebuilds) the value pyramid of `v` for --blend mip|demip|mida:
  * per volume, independent of the transfer function and the window. */

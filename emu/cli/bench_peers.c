@@ -6,8 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
-int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
-                     double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi);
+#include "bench_render.h"
 
 int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
                      double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi)

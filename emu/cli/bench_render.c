@@ -5,12 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_render.h"
 #include "registry.h"
-#include "render/renderer_native.h"
 #include "render/scene.h"
-
-int render_peers_run(const char *dataset_path, int size, double ours_full_ms,
-                     double ours_gaze_ms, double ours_mip_ms, float window_lo, float window_hi);
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -20,10 +17,12 @@ static int cmp_double(const void *a, const void *b)
 
 /* Median frame time over `reps` frames (first frame not discarded: the
  * renderer keeps no per-view caches outside progressive mode). */
-static pp5_status_t bench_frames(native_renderer_t *r, const render_settings_t *s, int reps,
+pp5_status_t bench_render_frames(native_renderer_t *r, const render_settings_t *s, int reps,
                                  double *ms, render_stats_t *last)
 {
     double t[9];
+    if (reps > 9)
+        reps = 9;
     for (int i = 0; i < reps; i++) {
         image8_t img;
         pp5_status_t st = native_renderer_frame(r, s, &img, last);
@@ -47,12 +46,7 @@ static pp5_status_t bench_blends(native_renderer_t *r, const scene_t *sc, int si
     if (st != PP5_OK)
         return st;
     render_settings_t s;
-    render_settings_defaults(&s);
-    s.width = s.height = size;
-    s.gaze_x = s.gaze_y = 0.5 * (size - 1);
-    s.view.rot_x_deg = sc->rot_x_deg;
-    s.view.rot_y_deg = sc->rot_y_deg;
-    s.view.rot_z_deg = sc->rot_z_deg;
+    bench_render_settings(sc, size, RENDER_MODE_FULL, &s);
     blend_settings_fill(&s.blend, sc->window_centre, sc->window_width,
                         (const float[3]){sc->rot_x_deg, sc->rot_y_deg, sc->rot_z_deg});
     printf("   blends: window C=%g W=%g (%s), value pyramid (max) built in %.0f ms; DEMIP with "
@@ -65,12 +59,12 @@ static pp5_status_t bench_blends(native_renderer_t *r, const scene_t *sc, int si
     s.mode = RENDER_MODE_FULL;
     for (int i = 0; st == PP5_OK && i < 3; i++) {
         s.blend.mode = modes[i];
-        st = bench_frames(r, &s, reps, &ms[i], &stats[i]);
+        st = bench_render_frames(r, &s, reps, &ms[i], &stats[i]);
     }
     s.mode = RENDER_MODE_GAZE;
     s.blend.mode = BLEND_MIP;
     if (st == PP5_OK)
-        st = bench_frames(r, &s, reps, &gaze_ms, &gs);
+        st = bench_render_frames(r, &s, reps, &gaze_ms, &gs);
     if (st != PP5_OK)
         return st;
     const char *names[3] = {"MIP", "DEMIP", "MIDA"};
@@ -88,23 +82,75 @@ static pp5_status_t bench_blends(native_renderer_t *r, const scene_t *sc, int si
     return PP5_OK;
 }
 
+/* Full resolution and gaze-directed frames at one image side (parallel or
+ * perspective). */
+typedef struct {
+    double full_ms, gaze_ms;
+    render_stats_t fs, gs;
+} size_result_t;
+
+static pp5_status_t bench_size(native_renderer_t *r, const scene_t *sc, int side,
+                               projection_t projection, int reps, size_result_t *out)
+{
+    render_settings_t s;
+    bench_render_settings(sc, side, RENDER_MODE_FULL, &s);
+    s.view.projection = projection;
+    pp5_status_t st = bench_render_frames(r, &s, reps, &out->full_ms, &out->fs);
+    s.mode = RENDER_MODE_GAZE;
+    if (st == PP5_OK)
+        st = bench_render_frames(r, &s, reps, &out->gaze_ms, &out->gs);
+    if (st != PP5_OK)
+        printf("   frame failed: %s\n", pp5_error_text());
+    return st;
+}
+
+static void print_size(int side, const size_result_t *z)
+{
+    printf("   %4dx%-4d full resolution: %8.1f ms/frame  (%llu rays, %llu 3D samples)\n", side,
+           side, z->full_ms, (unsigned long long)z->fs.rays, (unsigned long long)z->fs.samples);
+    printf("   %4dx%-4d gaze-directed:   %8.1f ms/frame  (%llu rays, %llu 3D samples)\n", side,
+           side, z->gaze_ms, (unsigned long long)z->gs.rays, (unsigned long long)z->gs.samples);
+    printf("   %4dx%-4d speed-up gaze vs full: %.2fx%s\n", side, side, z->full_ms / z->gaze_ms,
+           (side == 1024 ? " (goal >= 5x, the paper's factor)" : ""));
+}
+
+/* The figures beside the summary lines: the 5x goal at every size, samples
+ * per second per thread, perspective. */
+static pp5_status_t bench_more(native_renderer_t *r, const scene_t *sc, const int sides[3],
+                               const size_result_t z[3], int reps)
+{
+    printf("   gaze vs full (goal >= 5x at %d, %d and %d):", sides[0], sides[1], sides[2]);
+    bool met = true;
+    for (int k = 0; k < 3; k++) {
+        double x = z[k].full_ms / z[k].gaze_ms;
+        met = met && x >= 5.0;
+        printf(" %.2fx%s", x, k < 2 ? "," : "");
+    }
+    printf(": %s\n", met ? "met" : "missed");
+    printf("   %4dx%-4d full resolution: %.1f M 3D samples/s per thread (%d threads; goal >= 50 M "
+           "per core), %.0f ns per ray-thread\n", sides[0], sides[0],
+           (double)z[0].fs.samples / (z[0].full_ms * 1e3 * r->threads), r->threads,
+           z[0].full_ms * 1e6 * r->threads / (double)z[0].fs.rays);
+    size_result_t p;
+    pp5_status_t st = bench_size(r, sc, sides[0], PROJECTION_PERSPECTIVE, reps, &p);
+    if (st == PP5_OK)
+        printf("   %4dx%-4d perspective (eye at 3 bounding radii): full %.1f ms/frame (%llu "
+               "samples), gaze-directed %.1f ms/frame (%llu samples), %.2fx\n", sides[0],
+               sides[0], p.full_ms, (unsigned long long)p.fs.samples, p.gaze_ms,
+               (unsigned long long)p.gs.samples, p.full_ms / p.gaze_ms);
+    return st;
+}
+
 static int bench_render(const pp5_bench_opts_t *o)
 {
     scene_t sc;
-    pp5_status_t st = scene_load("cthead", true, &sc);
-    if (st != PP5_OK) {
-        printf("   cannot load a volume: %s\n", pp5_error_text());
+    pp5_status_t st = bench_render_scene(&sc);
+    if (st != PP5_OK)
         return 1;
-    }
-    if (sc.fell_back)
-        printf("   note: %s\n", sc.note);
-    /* The peers' 1D value ramp (classify.h "ct-skin-ramp") on CThead, so all
-     * three renderers classify alike; the phantom keeps its own preset. */
-    if (!sc.fell_back)
-        classify_preset("ct-skin-ramp", &sc.tf);
     shade_params_t sh;
     shade_defaults(&sh);
     native_renderer_t r;
+    bool rss = bench_peak_rss_reset();
     st = native_renderer_init(&r, &sc.volume, &sc.tf, &sh, 0);
     if (st != PP5_OK) {
         printf("   renderer init failed: %s\n", pp5_error_text());
@@ -115,57 +161,40 @@ static int bench_render(const pp5_bench_opts_t *o)
            sc.volume.source, sc.volume.nx, sc.volume.ny, sc.volume.nz, sc.tf.name, r.threads);
     printf("   3D mip map + octree build: %.0f ms (once per volume/transfer function)\n",
            r.ms_build_mip + r.ms_build_octree);
-    int sizes[2] = {512, 1024};
-    if (o->quick) {
-        sizes[0] = 128;
-        sizes[1] = 256;
-    }
+    bench_print_memory("f32", &sc.volume, &r, rss ? bench_peak_rss_mb() : -1.0);
+    int sides[3] = {512, 1024, 2048};
+    if (o->quick)
+        for (int k = 0; k < 3; k++)
+            sides[k] /= 4;
     int reps = o->quick ? 1 : 5;
-    double full_ms_first = 0.0, gaze_ms_first = 0.0;
-    for (int k = 0; k < 2; k++) {
-        render_settings_t s;
-        render_settings_defaults(&s);
-        s.width = s.height = sizes[k];
-        s.gaze_x = s.gaze_y = 0.5 * (sizes[k] - 1);
-        s.view.rot_x_deg = sc.rot_x_deg;
-        s.view.rot_y_deg = sc.rot_y_deg;
-        s.view.rot_z_deg = sc.rot_z_deg;
-        double full_ms, gaze_ms;
-        render_stats_t fs, gs;
-        s.mode = RENDER_MODE_FULL;
-        st = bench_frames(&r, &s, reps, &full_ms, &fs);
-        s.mode = RENDER_MODE_GAZE;
+    size_result_t z[3];
+    for (int k = 0; st == PP5_OK && k < 3; k++) {
+        st = bench_size(&r, &sc, sides[k], PROJECTION_PARALLEL, k == 2 ? (reps + 1) / 2 : reps,
+                        &z[k]);
         if (st == PP5_OK)
-            st = bench_frames(&r, &s, reps, &gaze_ms, &gs);
-        if (st != PP5_OK) {
-            printf("   frame failed: %s\n", pp5_error_text());
-            break;
-        }
-        if (k == 0) {
-            full_ms_first = full_ms;
-            gaze_ms_first = gaze_ms;
-        }
-        printf("   %4dx%-4d full resolution: %8.1f ms/frame  (%llu rays, %llu 3D samples)\n",
-               sizes[k], sizes[k], full_ms, (unsigned long long)fs.rays,
-               (unsigned long long)fs.samples);
-        printf("   %4dx%-4d gaze-directed:   %8.1f ms/frame  (%llu rays, %llu 3D samples)\n",
-               sizes[k], sizes[k], gaze_ms, (unsigned long long)gs.rays,
-               (unsigned long long)gs.samples);
-        printf("   %4dx%-4d speed-up gaze vs full: %.2fx%s\n", sizes[k], sizes[k],
-               full_ms / gaze_ms, (sizes[k] == 1024 ? " (goal >= 5x, the paper's factor)" : ""));
+            print_size(sides[k], &z[k]);
     }
+    if (st == PP5_OK)
+        st = bench_more(&r, &sc, sides, z, reps);
     double mip_full_ms = 0.0;
     if (st == PP5_OK) {
-        st = bench_blends(&r, &sc, sizes[0], reps, full_ms_first, &mip_full_ms);
+        st = bench_blends(&r, &sc, sides[0], reps, z[0].full_ms, &mip_full_ms);
         if (st != PP5_OK)
             printf("   blend frame failed: %s\n", pp5_error_text());
     }
+    image8_t ref[2] = {{0}, {0}};
+    if (st == PP5_OK)
+        st = bench_format_references(&r, &sc, sides[0], ref);
     native_renderer_free(&r);
+    if (st == PP5_OK)
+        st = bench_formats(&sc, sides[0], reps, ref, z[0].full_ms, z[0].gaze_ms);
+    image8_free(&ref[0]);
+    image8_free(&ref[1]);
     if (o->peers && st == PP5_OK) {
         char path[1200];
         snprintf(path, sizeof path, "%s/volumes/cthead/cthead_256x256x113_u16be.raw.gz",
                  scene_data_root());
-        render_peers_run(sc.fell_back ? NULL : path, sizes[0], full_ms_first, gaze_ms_first,
+        render_peers_run(sc.fell_back ? NULL : path, sides[0], z[0].full_ms, z[0].gaze_ms,
                          mip_full_ms, sc.window_centre - 0.5f * sc.window_width,
                          sc.window_centre + 0.5f * sc.window_width);
     }

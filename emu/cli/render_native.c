@@ -82,6 +82,8 @@ static void report_results(json_writer_t *j, const render_job_t *job, const nati
     json_begin_object(j);
     json_kv_int(j, "mip3d_levels", r->mip.levels);
     json_kv_int(j, "mip3d_floats_per_voxel", r->mip.stride);
+    json_kv_string(j, "mip3d_voxel_format", mip3d_format_name(r->mip.format));
+    json_kv_int(j, "mip3d_bytes", (long long)r->mip.bytes);
     json_kv_uint(j, "mip3d_bytes", r->mip.bytes);
     json_end_object(j);
     json_key(j, "frames");
@@ -165,7 +167,8 @@ static pp5_status_t write_report(const char *path, const render_job_t *job, cons
  * that MIP, DEMIP and MIDA rays sample. */
 static pp5_status_t renderer_for(native_renderer_t *r, const render_job_t *job, int threads)
 {
-    pp5_status_t st = native_renderer_init(r, job->volume, &job->tf, &job->shade, threads);
+    pp5_status_t st = native_renderer_init_format(r, job->volume, &job->tf, &job->shade,
+                                                  job->settings.voxel_format, threads);
     if (st == PP5_OK && job->settings.blend.mode != BLEND_COMPOSITE) {
         st = native_renderer_build_scalar(r, job->volume, job->settings.blend.pyramid);
         if (st != PP5_OK)
@@ -245,9 +248,10 @@ pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, c
     fprintf(log, "volume: %s (%dx%dx%d, values %g..%g), tf %s, lighting %s\n", sc->volume.source,
             sc->volume.nx, sc->volume.ny, sc->volume.nz, sc->volume.min_value,
             sc->volume.max_value, job->tf.name, shade_case_name(job->shade.lighting));
-    fprintf(log, "3D mip map: %d levels, %d floats/voxel, %.1f MB, built in %.0f ms; octree "
-            "%.1f MB in %.0f ms\n", r.mip.levels, r.mip.stride, r.mip.bytes / 1e6,
-            r.ms_build_mip, r.octree.bytes / 1e6, r.ms_build_octree);
+    fprintf(log, "3D mip map: %d levels, %d %s components/voxel, %.1f MB, built in %.0f ms; "
+            "octree %.1f MB in %.0f ms\n", r.mip.levels, r.mip.stride,
+            mip3d_format_name(r.mip.format), r.mip.bytes / 1e6, r.ms_build_mip,
+            r.octree.bytes / 1e6, r.ms_build_octree);
     const blend_settings_t *b = &job->settings.blend;
     if (b->mode != BLEND_COMPOSITE)
         fprintf(log, "blend %s: %s value pyramid %.1f MB in %.0f ms\n", blend_mode_name(b->mode),
