@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "plot.h"
 #include "registry.h"
 #include "render_cmd.h"
 
@@ -53,7 +54,7 @@ static void render_usage(void)
            "  --compare             also render full resolution: PSNR and acuity-weighted\n"
            "                        error in the report and on stdout\n"
            "  --mip-levels-out P    the populated 2D mip-map levels as P<level>.png (fig. 6)\n"
-           "  --fig5 FILE.png       sweet-spot structure plot (fig. 5)\n"
+           "  --fig5 FILE           sweet-spot structure plot (fig. 5): .png, .svg or .pdf\n"
            "  --threads N           host threads (0 = all; output is identical for any N)\n"
            "Machine (emulated Pixel-Planes 5, firmware/):\n"
            "  --machine             render on the emulated machine (GPs + renderers + ring);\n"
@@ -302,7 +303,11 @@ static pp5_status_t parse_output(render_cmd_t *c, int opt, const char *a)
     case OPT_REPORT: c->report_json = a; break;
     case OPT_COMPARE: c->compare = true; break;
     case OPT_LEVELS_OUT: c->levels_prefix = a; break;
-    case OPT_FIG5: c->fig5_png = a; break;
+    case OPT_FIG5: {
+        plot_format_t fmt;
+        c->fig5_png = a;
+        return plot_format_from_name(a, &fmt);   /* refused before any rendering */
+    }
     default: return NOT_MINE;
     }
     return PP5_OK;
