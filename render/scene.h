@@ -15,6 +15,8 @@ typedef struct {
     float rot_x_deg, rot_y_deg, rot_z_deg;   /* a view that shows the subject's face/side */
     char name[64];                            /* "mrbrain", "cthead", "phantom shepp-logan" */
     bool fell_back;                           /* the data was absent: phantom used instead */
+    bool tf_from_data;                        /* a file: the default transfer function is
+                                                 chosen from its histogram (classify_auto.h) */
     char note[1280];                          /* why, when fell_back */
 } scene_t;
 

@@ -6,6 +6,7 @@
 
 #include "cliopt.h"
 #include "plot.h"
+#include "render/classify_io.h"
 #include "registry.h"
 #include "render_cmd.h"
 
@@ -25,7 +26,11 @@ static void render_usage(void)
            "    --spacing SX,SY,SZ --header-bytes N   (raw; a name like\n"
            "                        x_256x256x113_u16be.raw.gz is understood)\n"
            "Classification and shading:\n"
-           "  --tf PRESET           %s\n"
+           "  --tf PRESET|FILE      a preset (%s)\n"
+           "                        or a file: pp5's text format or a ParaView preset (.json);\n"
+           "                        see render/classify_io.h.  Default: the data set's preset;\n"
+           "                        for a --volume file, one chosen from its histogram\n"
+           "  --tf-out FILE         write the transfer function used, in the text format\n"
            "  --lighting CASE       diffuse (default) | specular | moving (paper §5)\n"
            "  --specular KS         specular coefficient (with specular/moving)\n"
            "View:\n"
@@ -70,6 +75,7 @@ static void render_usage(void)
            "                        plan=rays|samples and level_tables=0|1)\n\n"
            "Examples:\n"
            "  pp5 render --phantom shepp-logan --mode gaze --gaze 300,200 --out g.png\n"
+           "  pp5 render --volume skull_64x64x64_f32le.raw --out s.png --tf-out skull.tf\n"
            "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n",
            phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
 }
@@ -81,7 +87,7 @@ enum {
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
     OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_MACHINE, OPT_DIVISION, OPT_SPLIT, OPT_FRAMES,
-    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET
+    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET, OPT_TF_OUT
 };
 
 static const struct option longopts[] = {
@@ -94,6 +100,7 @@ static const struct option longopts[] = {
     {"spacing", required_argument, NULL, OPT_SPACING},
     {"header-bytes", required_argument, NULL, OPT_HEADER_BYTES},
     {"tf", required_argument, NULL, OPT_TF},
+    {"tf-out", required_argument, NULL, OPT_TF_OUT},
     {"lighting", required_argument, NULL, OPT_LIGHTING},
     {"specular", required_argument, NULL, OPT_SPECULAR},
     {"size", required_argument, NULL, OPT_SIZE},
@@ -207,7 +214,8 @@ static pp5_status_t parse_shading(render_cmd_t *c, int opt, const char *a)
     int i = 0;
     pp5_status_t st = PP5_OK;
     switch (opt) {
-    case OPT_TF: st = classify_preset(a, &ch->tf); ch->have_tf = true; break;
+    case OPT_TF: st = render_choices_set_tf(ch, a); break;
+    case OPT_TF_OUT: c->tf_out = a; break;
     case OPT_LIGHTING:
         if ((st = one_of("--lighting", a, lightings, 3, &i)) == PP5_OK)
             ch->shade.lighting = cases[i];
@@ -370,6 +378,19 @@ static pp5_status_t render_run(render_cmd_t *c)
         return st;
     render_job_t job;
     st = render_job_resolve(&job, &sc, &c->choices);
+    if (st == PP5_OK) {
+        if (c->choices.tf_note[0])
+            printf("note: --tf: %s\n", c->choices.tf_note);
+        render_job_print_tf(&job, stdout);
+    }
+    if (st == PP5_OK && c->tf_out) {
+        char header[700];
+        snprintf(header, sizeof header, "transfer function of %s, written by pp5 render --tf-out",
+                 sc.volume.source);
+        st = classify_tf_save(c->tf_out, &job.tf, header);
+        if (st == PP5_OK)
+            printf("wrote %s (give it back with --tf %s)\n", c->tf_out, c->tf_out);
+    }
     if (st == PP5_OK)
         st = c->machine ? render_machine_run(c, &job, stdout) : render_native_run(c, &job, &sc, stdout);
     scene_free(&sc);

@@ -17,7 +17,7 @@
 typedef struct {
     render_input_t input;
     render_choices_t choices;
-    const char *out_png, *report_json, *levels_prefix, *fig5_png;
+    const char *out_png, *report_json, *levels_prefix, *fig5_png, *tf_out;
     bool compare;
     /* The machine back end (--machine). */
     bool machine;

@@ -76,6 +76,12 @@ static pp5_status_t config_shading(vr_config_t *c, const classify_tf_t *tf, cons
             return pp5_fail(PP5_E_RANGE, "machine renderer: ambient and diffuse must be >= 0 "
                             "with a sum <= 4 for the Q15 PP shade");
     }
+    /* The GP firmware classifies by Levoy's iso-value contours (vr_kernels.h);
+     * a table would silently classify every voxel as empty. */
+    if (classify_tf_is_table(tf))
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: transfer function '%s' is a table "
+                        "of control points; the machine's firmware classifies by iso-value "
+                        "contours only (use a contour function, or the native renderer)", tf->name);
     c->tf_count = tf->count;
     for (int i = 0; i < tf->count && i < VR_MAX_CONTOURS; i++) {
         c->tf[i].value = tf->contour[i].value;
