@@ -357,7 +357,13 @@ void render_cmd_defaults(render_cmd_t *c)
     c->frames = 1;
 }
 
-static pp5_status_t parse_option(render_cmd_t *c, int opt, const char *arg)
+const struct option *render_cmd_options(int *count)
+{
+    *count = (int)(sizeof longopts / sizeof longopts[0]) - 1;
+    return longopts;
+}
+
+pp5_status_t render_cmd_option(render_cmd_t *c, int opt, const char *arg)
 {
     pp5_status_t (*const groups[])(render_cmd_t *, int, const char *) = {
         parse_input, parse_shading, parse_view, parse_gaze, parse_output, parse_machine,
@@ -412,7 +418,7 @@ static int render_main(int argc, char **argv)
         }
         if (opt == '?')
             return 2;
-        st = parse_option(&c, opt, optarg);
+        st = render_cmd_option(&c, opt, optarg);
     }
     if (st == PP5_OK && optind < argc)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);
