@@ -383,3 +383,38 @@ TEST(view_screenshot_frames_writes_the_picture_and_the_machines_figures)
               "stdout: %s", text ? text : "(none)");
     free(text);
 }
+
+/* Progress lines (emu/util/progress.h): on a terminal a long build shows one;
+ * with stderr in a file, or with --quiet, there is none.  `script` (bsdutils,
+ * in every Debian) gives the run a terminal. */
+TEST(progress_lines_only_on_a_terminal_and_not_with_quiet)
+{
+    const char *dir = pp5_test_outdir();
+    const char *bin = getenv("PP5_BIN") ? getenv("PP5_BIN") : "./pp5";
+    char cmd[4096], path[1200];
+    /* Lines appear at once (no half-second wait), so small work shows them. */
+    const char *work = "render --phantom sphere-shell --size 32x32";
+    setenv("PP5_PROGRESS_DELAY_S", "0", 1);
+    snprintf(path, sizeof path, "%s/err.txt", dir);
+    snprintf(cmd, sizeof cmd, "%s %s >/dev/null 2>%s", bin, work, path);
+    REQUIRE(system(cmd) == 0);
+    char *text = pp5_test_read_file(path);
+    CHECK_MSG(text && strstr(text, "3D mip map") == NULL && strchr(text, '\r') == NULL,
+              "stderr to a file: %s", text ? text : "(none)");
+    free(text);
+    if (system("command -v script >/dev/null 2>&1") != 0)
+        SKIP("script (bsdutils) is not installed: cannot give pp5 a terminal");
+    snprintf(path, sizeof path, "%s/tty.txt", dir);
+    snprintf(cmd, sizeof cmd, "script -qec '%s %s' /dev/null >%s 2>&1", bin, work, path);
+    REQUIRE(system(cmd) == 0);
+    text = pp5_test_read_file(path);
+    CHECK_MSG(text && strstr(text, "\r3D mip map: ") && strstr(text, "done in"),
+              "on a terminal: %.300s", text ? text : "(none)");
+    free(text);
+    snprintf(cmd, sizeof cmd, "script -qec '%s %s --quiet' /dev/null >%s 2>&1", bin, work, path);
+    REQUIRE(system(cmd) == 0);
+    text = pp5_test_read_file(path);
+    CHECK_MSG(text && strstr(text, "done in") == NULL, "--quiet: %.300s", text ? text : "(none)");
+    free(text);
+    unsetenv("PP5_PROGRESS_DELAY_S");
+}

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "angles.h"
+#include "progress.h"
 
 pp5_status_t replay_constant_cost(void *ctx, double gaze_x, double gaze_y,
                                   replay_frame_cost_t *out)
@@ -258,6 +259,8 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
     size_t next = 0;                 /* first sample not yet fed */
     bool have_gaze = false;
     double hold_ax = 0, hold_ay = 0, used_sample_t = NAN;
+    progress_t pr;                   /* on a terminal: trace time replayed, per mille */
+    progress_begin(&pr, "replay", 1000);
     uint32_t used_segment = 0;
     size_t hint = 0;
     double *errors = NULL;
@@ -343,7 +346,10 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
             break;
         prev_frame_s = c.frame_s;
         start = f.end_s;
+        progress_set(&pr, (int)(1000 * (start - s[0].t_s) / fmax(t_end_trace - s[0].t_s, 1e-9)),
+                     "of the trace's time");
     }
+    progress_end(&pr);
     if (st == PP5_OK && out->count == 0)
         st = pp5_fail(PP5_E_RANGE, "the trace (%.3f s) is shorter than one frame plus the latency",
                       t_end_trace - s[0].t_s);
