@@ -25,7 +25,7 @@ DEBUG   ?= 0
 # system header the build includes belongs to one of these or their dependencies.
 DEB_PKGS := gcc libc6-dev make pkg-config libpng-dev zlib1g-dev libteem-dev \
             libniftiio-dev libnifti2-dev libhidapi-dev libusb-1.0-0-dev \
-            umockdev libumockdev-dev libcairo2-dev fonts-dejavu-core libjansson-dev \
+            umockdev libumockdev-dev libcairo2-dev libfontconfig-dev fonts-dejavu-core libjansson-dev \
             libsdl2-dev xvfb libxtst-dev
 
 ifeq ($(SAN),1)
@@ -49,9 +49,10 @@ endif
 # niftiio do not, so their flags are spelled out (checked by `make deps`).  An
 # optional library is built in only when every header pp5 includes from it is
 # present.
-# cairo (plots, the viewer's heads-up display) and jansson (ParaView presets)
-# are required like libpng; SDL2 (the viewer's window) is optional.
-REQUIRED_PC := libpng zlib cairo jansson
+# cairo with fontconfig (plots, the viewer's heads-up display) and jansson
+# (ParaView presets) are required like libpng; SDL2 (the viewer's window) is
+# optional.
+REQUIRED_PC := libpng zlib cairo fontconfig jansson
 PKG_CFLAGS := $(shell pkg-config --cflags $(REQUIRED_PC) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(REQUIRED_PC) 2>/dev/null)
 MISSING_PC := $(strip $(foreach m,$(REQUIRED_PC),$(if $(shell pkg-config --exists $(m) 2>/dev/null && echo y),,$(m))))

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "plot.h"
 #include "view.h"
 
 static double host_now_s(void)
@@ -35,6 +36,7 @@ pp5_status_t viewer_init(viewer_t *v, const view_options_t *opt, const render_jo
         if (m[i].mode == job->settings.mode)
             v->mode_index = i;
     replay_defaults(&v->latency);
+    plot_text_setup();   /* the HUD's text */
     size_t px = (size_t)job->settings.width * (size_t)job->settings.height;
     v->argb = calloc(px, sizeof *v->argb);
     if (!v->argb)

@@ -126,6 +126,10 @@ pp5_status_t plot_format_from_name(const char *path, plot_format_t *fmt);
  * whole or not at all (written beside it, then renamed). */
 pp5_status_t plot_write(const plot_t *p, const char *path, int width, int height);
 
+/* Every user of cairo's text calls this first: cairo's and fontconfig's
+ * font caches are then released at exit. */
+void plot_text_setup(void);
+
 /* Where data point (x, y) lands in a width x height rendering: pixel column and
  * row (row 0 at the top), as the renderer computes them.  For tests and for
  * callers that annotate a chart.  False if the plot cannot be laid out. */
