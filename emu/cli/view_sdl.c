@@ -1,9 +1,9 @@
 /* view_sdl.c: the viewer's SDL2 window: events in (mouse, keys, window close), frames out (view.h).
  *
  * A frame is rendered only when something changed (the gaze, the view, a
- * key, progressive refinement still growing); otherwise the loop sleeps on
- * the event queue and redraws the HUD now and then, so that an idle viewer
- * does not take a shared machine's cores. */
+ * key, progressive refinement still growing); otherwise the loop sleeps
+ * 15 ms between looks at the event queue and redraws the HUD now and then,
+ * so that an idle viewer does not take a shared machine's cores. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -133,13 +133,17 @@ static pp5_status_t loop(viewer_t *v, window_state_t *w, double t0)
 {
     pp5_status_t st = PP5_OK;
     while (st == PP5_OK && !v->quit) {
+        /* Polling, not SDL_WaitEventTimeout: events that Xlib has already read
+         * off the connection do not wake a wait on it (seen as events taken
+         * in only when the next one arrived); SDL_PollEvent pumps them. */
         SDL_Event e;
-        bool busy = wants_frame(v, w);
-        if (busy ? SDL_PollEvent(&e) : SDL_WaitEventTimeout(&e, 100)) {
-            do
-                handle_event(v, w, &e);
-            while (SDL_PollEvent(&e));
+        bool any = false;
+        while (SDL_PollEvent(&e)) {
+            handle_event(v, w, &e);
+            any = true;
         }
+        if (!any && !wants_frame(v, w))
+            SDL_Delay(15);
         if (v->quit)
             break;
         double now = now_since(t0);
