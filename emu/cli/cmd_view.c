@@ -182,8 +182,9 @@ static pp5_status_t view_run(view_options_t *o)
         if (st == PP5_OK)
             st = o->frames > 0 && !have_display() ? run_offscreen(v) : viewer_run_window(v);
         /* Scripts read the last frame's figures here (the HUD's lines). */
-        for (int i = 0; st == PP5_OK && o->frames > 0 && v->hud && i < 5; i++)
-            printf("hud: %s\n", v->hud_text[i]);
+        for (int i = 0; st == PP5_OK && o->frames > 0 && v->hud && i < VIEW_HUD_LINES - 1; i++)
+            if (v->hud_text[i][0])
+                printf("hud: %s\n", v->hud_text[i]);
         viewer_free(v);
         free(v);
     }

@@ -144,6 +144,8 @@ void view_machine_stop(view_machine_t *m);
 
 /* ---- the viewer (view_frame.c, view_sdl.c) ---- */
 
+#define VIEW_HUD_LINES 7
+
 typedef struct {
     render_cmd_t cmd;             /* the render options (input, choices, machine) */
     const char *gaze_from;        /* "mouse" (default) or a source */
@@ -175,7 +177,7 @@ typedef struct {
     long machine_image_frame;
     int screenshots;
     bool shot_pending;            /* the s key: saved after the next picture */
-    char hud_text[6][400];        /* the HUD's lines as last drawn */
+    char hud_text[VIEW_HUD_LINES][400]; /* the HUD's lines as last drawn ("": none) */
     uint32_t *argb;               /* the window's pixels, width x height */
     bool quit;
     double mouse_x, mouse_y;

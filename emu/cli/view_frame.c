@@ -153,11 +153,13 @@ static void draw_levels(cairo_t *cr, const viewer_t *v, double font)
     }
 }
 
-/* The emulated machine's line: its figure for this frame, the last one it
- * managed (and how far behind), or why there is none. */
-static void machine_line(viewer_t *v, char *buf, size_t n, double *frame_s)
+/* The emulated machine's two lines: its figure for this frame, the last one
+ * it managed (and how far behind), or why there is none.  Two lines, so that
+ * a 512-pixel window shows all of it. */
+static void machine_lines(viewer_t *v, char *buf, char *buf2, size_t n, double *frame_s)
 {
     *frame_s = NAN;
+    buf2[0] = '\0';
     if (!v->machine.started) {
         snprintf(buf, n, "emulated Pixel-Planes 5: off (--no-machine-cost)");
         return;
@@ -172,21 +174,22 @@ static void machine_line(viewer_t *v, char *buf, size_t n, double *frame_s)
     }
     const fw_frame_result_t *r = &a.result;
     *frame_s = r->frame_time_s;
-    int len = snprintf(buf, n, "emulated Pixel-Planes 5: %.1f ms (%.2f frames/s), ring %.1f %%, "
-                       "%llu rays, %.3g samples; %s", r->frame_time_s * 1e3,
-                       r->frame_time_s > 0 ? 1 / r->frame_time_s : 0.0, 100 * r->ring_util_total,
-                       (unsigned long long)r->rays, (double)r->samples, r->bottleneck);
+    snprintf(buf, n, "emulated Pixel-Planes 5: %.1f ms (%.2f frames/s), ring %.1f %%",
+             r->frame_time_s * 1e3, r->frame_time_s > 0 ? 1 / r->frame_time_s : 0.0,
+             100 * r->ring_util_total);
+    int len = snprintf(buf2, n, "  %llu rays, %.3g samples; %s", (unsigned long long)r->rays,
+                       (double)r->samples, r->bottleneck);
     long behind = v->frame - a.frame;
     if (len > 0 && (size_t)len < n && behind > 0)
-        snprintf(buf + len, n - (size_t)len, "  [cannot keep up: frame %ld's figure, %ld behind]",
+        snprintf(buf2 + len, n - (size_t)len, "  [cannot keep up: frame %ld's figure, %ld behind]",
                  a.frame, behind);
     if (status[0] && len > 0 && (size_t)len < n)
-        snprintf(buf + strlen(buf), n - strlen(buf), "  [%s]", status);
+        snprintf(buf2 + strlen(buf2), n - strlen(buf2), "  [%s]", status);
 }
 
 static void draw_hud(cairo_t *cr, viewer_t *v, double font)
 {
-    char lines[6][400];
+    char lines[VIEW_HUD_LINES][400];
     int n;
     const view_mode_t *m = view_modes(&n);
     snprintf(lines[0], sizeof lines[0], "pixels: %s | mode: %s | progressive %s | frame %ld",
@@ -195,38 +198,43 @@ static void draw_hud(cairo_t *cr, viewer_t *v, double font)
              "%.3g samples", v->host_frame_s * 1e3, v->host_fps,
              (unsigned long long)v->stats.rays, (double)v->stats.samples);
     double emu_s;
-    machine_line(v, lines[2], sizeof lines[2], &emu_s);
+    machine_lines(v, lines[2], lines[3], sizeof lines[2], &emu_s);
     const replay_params_t *L = &v->latency;
     if (isnan(emu_s))
-        snprintf(lines[3], sizeof lines[3], "latency (replay's model): tracker %.0f ms + frame ? + "
+        snprintf(lines[4], sizeof lines[4], "latency (replay's model): tracker %.0f ms + frame ? + "
                  "display %.0f ms", L->tracker_latency_s * 1e3, L->display_latency_s * 1e3);
     else
-        snprintf(lines[3], sizeof lines[3], "latency (replay's model): tracker %.0f + frame %.0f + "
+        snprintf(lines[4], sizeof lines[4], "latency (replay's model): tracker %.0f + frame %.0f + "
                  "display %.0f = %.0f ms", L->tracker_latency_s * 1e3, emu_s * 1e3,
                  L->display_latency_s * 1e3,
                  (L->tracker_latency_s + emu_s + L->display_latency_s) * 1e3);
-    view_gaze_describe(&v->gaze, lines[4], sizeof lines[4]);
-    size_t used = strlen(lines[4]);
-    snprintf(lines[4] + used, sizeof lines[4] - used, " (%.0f, %.0f)", v->settings.gaze_x,
+    view_gaze_describe(&v->gaze, lines[5], sizeof lines[5]);
+    size_t used = strlen(lines[5]);
+    snprintf(lines[5] + used, sizeof lines[5] - used, " (%.0f, %.0f)", v->settings.gaze_x,
              v->settings.gaze_y);
-    snprintf(lines[5], sizeof lines[5], "keys: f/g/m mode  p progressive  c circles  l levels  "
+    snprintf(lines[6], sizeof lines[6], "keys: f/g/m mode  p progressive  c circles  l levels  "
              "h HUD  s shot  q quit");
     memcpy(v->hud_text, lines, sizeof v->hud_text);
     cairo_select_font_face(cr, "DejaVu Sans Mono", CAIRO_FONT_SLANT_NORMAL,
                            CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, font);
     double wmax = 0;
-    for (int i = 0; i < 6; i++) {
+    int shown = 0;
+    for (int i = 0; i < VIEW_HUD_LINES; i++) {
         cairo_text_extents_t e;
         cairo_text_extents(cr, lines[i], &e);
         wmax = fmax(wmax, e.x_advance);
     }
+    for (int i = 0; i < VIEW_HUD_LINES; i++)
+        shown += lines[i][0] != '\0';
     cairo_set_source_rgba(cr, 0, 0, 0, 0.6);
-    cairo_rectangle(cr, 0, 0, wmax + 12, 6 * font * 1.3 + 8);
+    cairo_rectangle(cr, 0, 0, wmax + 12, shown * font * 1.3 + 8);
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 1, 1, 1);
-    for (int i = 0; i < 6; i++) {
-        cairo_move_to(cr, 6, 4 + font * (1.3 * i + 1.0));
+    for (int i = 0, row = 0; i < VIEW_HUD_LINES; i++) {
+        if (lines[i][0] == '\0')
+            continue;
+        cairo_move_to(cr, 6, 4 + font * (1.3 * row++ + 1.0));
         cairo_show_text(cr, lines[i]);
     }
 }
