@@ -43,8 +43,8 @@ typedef struct {
 
 static pp5_status_t bad(const text_reader_t *r, const char *what)
 {
-    return pp5_fail(PP5_E_FORMAT, "%s:%d: %s (format: render/classify_io.h)", r->file, r->line,
-                    what);
+    return pp5_fail(PP5_E_FORMAT, "%s:%d: %s (the format: man pp5, section TRANSFER FUNCTIONS)",
+                    r->file, r->line, what);
 }
 
 static pp5_status_t read_contour(text_reader_t *r, const double *v, int n, bool ramp)

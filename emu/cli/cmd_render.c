@@ -28,7 +28,7 @@ static void render_usage(void)
            "Classification and shading:\n"
            "  --tf PRESET|FILE      a preset (%s)\n"
            "                        or a file: pp5's text format or a ParaView preset (.json);\n"
-           "                        see render/classify_io.h.  Default: the data set's preset;\n"
+           "                        see man pp5.  Default: the data set's preset;\n"
            "                        for a --volume file, one chosen from its histogram\n"
            "  --tf-out FILE         write the transfer function used, in the text format\n"
            "  --lighting CASE       diffuse (default) | specular | moving (paper §5)\n"
