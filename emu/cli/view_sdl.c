@@ -181,6 +181,13 @@ pp5_status_t viewer_run_window(viewer_t *v)
                         "without a window");
     if (!v)
         return PP5_OK;   /* only the check */
+    /* The window's pixels are composed by us (cairo), so the window surface
+     * is X11's own framebuffer, not a GL texture: with software GL (Mesa's
+     * llvmpipe on Xvfb or over ssh -X) that path added renderer threads, and
+     * under AddressSanitizer the window took in events late or not at all
+     * in about half the runs; with the native framebuffer it never did.  The
+     * environment variable SDL_FRAMEBUFFER_ACCELERATION still overrides. */
+    SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
     if (SDL_Init(SDL_INIT_VIDEO) != 0)
         return pp5_fail(PP5_E_UNSUPPORTED, "cannot open a window on display '%s': %s",
                         x11 && *x11 ? x11 : wl, SDL_GetError());
