@@ -144,7 +144,7 @@ void view_machine_stop(view_machine_t *m);
 
 /* ---- the viewer (view_frame.c, view_sdl.c) ---- */
 
-#define VIEW_HUD_LINES 7
+#define VIEW_HUD_LINES 8
 
 typedef struct {
     render_cmd_t cmd;             /* the render options (input, choices, machine) */

@@ -156,10 +156,11 @@ static void draw_levels(cairo_t *cr, const viewer_t *v, double font)
 /* The emulated machine's two lines: its figure for this frame, the last one
  * it managed (and how far behind), or why there is none.  Two lines, so that
  * a 512-pixel window shows all of it. */
-static void machine_lines(viewer_t *v, char *buf, char *buf2, size_t n, double *frame_s)
+static void machine_lines(viewer_t *v, char *buf, char *buf2, char *buf3, size_t n,
+                          double *frame_s)
 {
     *frame_s = NAN;
-    buf2[0] = '\0';
+    buf2[0] = buf3[0] = '\0';
     if (!v->machine.started) {
         snprintf(buf, n, "emulated Pixel-Planes 5: off (--no-machine-cost)");
         return;
@@ -177,14 +178,15 @@ static void machine_lines(viewer_t *v, char *buf, char *buf2, size_t n, double *
     snprintf(buf, n, "emulated Pixel-Planes 5: %.1f ms (%.2f frames/s), ring %.1f %%",
              r->frame_time_s * 1e3, r->frame_time_s > 0 ? 1 / r->frame_time_s : 0.0,
              100 * r->ring_util_total);
-    int len = snprintf(buf2, n, "  %llu rays, %.3g samples; %s", (unsigned long long)r->rays,
-                       (double)r->samples, r->bottleneck);
+    snprintf(buf2, n, "  %llu rays, %.3g samples; %s", (unsigned long long)r->rays,
+             (double)r->samples, r->bottleneck);
     long behind = v->frame - a.frame;
-    if (len > 0 && (size_t)len < n && behind > 0)
-        snprintf(buf2 + len, n - (size_t)len, "  [cannot keep up: frame %ld's figure, %ld behind]",
-                 a.frame, behind);
-    if (status[0] && len > 0 && (size_t)len < n)
-        snprintf(buf2 + strlen(buf2), n - strlen(buf2), "  [%s]", status);
+    int len = 0;
+    if (behind > 0)
+        len = snprintf(buf3, n, "  cannot keep up: the figure of frame %ld, %ld behind", a.frame,
+                       behind);
+    if (status[0] && len >= 0 && (size_t)len < n)
+        snprintf(buf3 + len, n - (size_t)len, "  [%s]", status);
 }
 
 static void draw_hud(cairo_t *cr, viewer_t *v, double font)
@@ -198,21 +200,21 @@ static void draw_hud(cairo_t *cr, viewer_t *v, double font)
              "%.3g samples", v->host_frame_s * 1e3, v->host_fps,
              (unsigned long long)v->stats.rays, (double)v->stats.samples);
     double emu_s;
-    machine_lines(v, lines[2], lines[3], sizeof lines[2], &emu_s);
+    machine_lines(v, lines[2], lines[3], lines[4], sizeof lines[2], &emu_s);
     const replay_params_t *L = &v->latency;
     if (isnan(emu_s))
-        snprintf(lines[4], sizeof lines[4], "latency (replay's model): tracker %.0f ms + frame ? + "
+        snprintf(lines[5], sizeof lines[5], "latency (replay's model): tracker %.0f ms + frame ? + "
                  "display %.0f ms", L->tracker_latency_s * 1e3, L->display_latency_s * 1e3);
     else
-        snprintf(lines[4], sizeof lines[4], "latency (replay's model): tracker %.0f + frame %.0f + "
+        snprintf(lines[5], sizeof lines[5], "latency (replay's model): tracker %.0f + frame %.0f + "
                  "display %.0f = %.0f ms", L->tracker_latency_s * 1e3, emu_s * 1e3,
                  L->display_latency_s * 1e3,
                  (L->tracker_latency_s + emu_s + L->display_latency_s) * 1e3);
-    view_gaze_describe(&v->gaze, lines[5], sizeof lines[5]);
-    size_t used = strlen(lines[5]);
-    snprintf(lines[5] + used, sizeof lines[5] - used, " (%.0f, %.0f)", v->settings.gaze_x,
+    view_gaze_describe(&v->gaze, lines[6], sizeof lines[6]);
+    size_t used = strlen(lines[6]);
+    snprintf(lines[6] + used, sizeof lines[6] - used, " (%.0f, %.0f)", v->settings.gaze_x,
              v->settings.gaze_y);
-    snprintf(lines[6], sizeof lines[6], "keys: f/g/m mode  p progressive  c circles  l levels  "
+    snprintf(lines[7], sizeof lines[7], "keys: f/g/m mode  p progressive  c circles  l levels  "
              "h HUD  s shot  q quit");
     memcpy(v->hud_text, lines, sizeof v->hud_text);
     cairo_select_font_face(cr, "DejaVu Sans Mono", CAIRO_FONT_SLANT_NORMAL,
