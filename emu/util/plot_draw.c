@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define TICK_LEN 5.0
 #define FONT_FACE "DejaVu Sans"
@@ -412,6 +413,23 @@ pp5_status_t plot_render(const plot_t *p, int width, int height, image8_t *img)
     return st;
 }
 
+/* A PDF names the time it was made; SOURCE_DATE_EPOCH (the reproducible-
+ * builds convention: seconds since 1970) fixes it, so that the same plot is
+ * the same bytes.  Without it cairo writes the present time. */
+static void pdf_fixed_date(cairo_surface_t *s)
+{
+    const char *e = getenv("SOURCE_DATE_EPOCH");
+    char *end;
+    long long t = e ? strtoll(e, &end, 10) : -1;
+    if (!e || end == e || *end || t < 0)
+        return;
+    time_t tt = (time_t)t;
+    struct tm tm;
+    char iso[32];
+    if (gmtime_r(&tt, &tm) && strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm) > 0)
+        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATE_DATE, iso);
+}
+
 /* SVG or PDF into `tmp`: the surface writes the file as it finishes. */
 static pp5_status_t write_vector(const plot_t *p, plot_format_t fmt, const char *tmp, int width,
                                  int height)
@@ -425,6 +443,7 @@ static pp5_status_t write_vector(const plot_t *p, plot_format_t fmt, const char 
     if (fmt == PLOT_FORMAT_PDF) {
         cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, p->title);
         cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "pp5");
+        pdf_fixed_date(s);
     }
     cairo_t *cr = cairo_create(s);
     st = draw(cr, p, &L, width, height);
