@@ -26,7 +26,7 @@ DEBUG   ?= 0
 DEB_PKGS := gcc libc6-dev make pkg-config libpng-dev zlib1g-dev libteem-dev \
             libniftiio-dev libnifti2-dev libhidapi-dev libusb-1.0-0-dev \
             umockdev libumockdev-dev libcairo2-dev libfontconfig-dev fonts-dejavu-core libjansson-dev \
-            libsdl2-dev xvfb libxtst-dev
+            libsdl2-dev xvfb libxtst-dev groff-base
 
 ifeq ($(SAN),1)
 BUILD   := build/san
