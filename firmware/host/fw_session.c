@@ -1,5 +1,6 @@
 /* fw_session.c: host side of the machine renderer: the configuration block, slabs and program to the GPs, setup, and one frame at a time. */
 #include "fw_session.h"
+#include "progress.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -76,6 +77,12 @@ static pp5_status_t config_shading(vr_config_t *c, const classify_tf_t *tf, cons
             return pp5_fail(PP5_E_RANGE, "machine renderer: ambient and diffuse must be >= 0 "
                             "with a sum <= 4 for the Q15 PP shade");
     }
+    /* The GP firmware classifies by Levoy's iso-value contours (vr_kernels.h);
+     * a table would silently classify every voxel as empty. */
+    if (classify_tf_is_table(tf))
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: transfer function '%s' is a table "
+                        "of control points; the machine's firmware classifies by iso-value "
+                        "contours only (use a contour function, or the native renderer)", tf->name);
     c->tf_count = tf->count;
     for (int i = 0; i < tf->count && i < VR_MAX_CONTOURS; i++) {
         c->tf[i].value = tf->contour[i].value;
@@ -216,6 +223,10 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     s->m_ok = true;
     if (o->timeline && (st = machine_enable_timeline(&s->m)) != PP5_OK)
         return st;
+    progress_t pr;
+    progress_begin(&pr, "machine setup", 1);
+    progress_note(&pr, "loading the volume's slabs; the GPs build the 3D mip map into the "
+                  "backing store");
     st = load_gps(s, v);
     sched_stop_t stop = SCHED_STOP_IDLE;
     /* The once-per-sequence mip-map build is minutes of work on the paper's
@@ -223,6 +234,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
      * sim.setup_budget_s, while sim.budget_s bounds each frame. */
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
+    progress_end(&pr);
     if (st == PP5_OK && stop != SCHED_STOP_IDLE)
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: setup stopped (%s)", sched_stop_name(stop));
     s->setup_s = ticks_to_s(s->m.setup_ps);
