@@ -230,8 +230,10 @@ static fw_status_t frame_passes(gp_t *gp, vr_state_t *s)
     if (!fits)
         return fw_fail(gp, "vr: GP %d: the bricks of its partition do not fit in local memory "
                            "(%llu bytes free after a %llu-byte working set; %llu bytes in the "
-                           "largest of %d passes)", s->g, (unsigned long long)avail,
-                       (unsigned long long)used, (unsigned long long)need, s->n_passes);
+                           "largest of %d passes%s)", s->g, (unsigned long long)avail,
+                       (unsigned long long)used, (unsigned long long)need, s->n_passes,
+                       vr_is_blend(s) ? "; a blend's rays are cast whole, in column passes only: "
+                                        "try division=resident" : "");
     s->pass = 0;
     s->cache_budget = avail;
     return FW_OK;

@@ -158,9 +158,9 @@ static pp5_status_t config_blend(fw_session_t *s, const render_job_t *job)
     if (s->opts.division == FW_DIVISION_OBJECT_SLABS)
         return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: --blend %s is not cast in object "
                         "slabs (DEMIP's ray 2 needs the whole ray's maximum before any slab can "
-                        "stop it, and MIDA's colour depends on the maximum in front of each "
-                        "slab; firmware/ARCHITECTURE.md \"Blends\"): use division=image-bands or "
-                        "division=resident", blend_mode_name(b->mode));
+                        "stop it, MIDA's colour depends on the maximum in front of each slab, "
+                        "and MIP's merge by maximum is not written yet; firmware/ARCHITECTURE.md "
+                        "\"Blends\"): use division=image-bands or division=resident", blend_mode_name(b->mode));
     c->blend = b->mode == BLEND_MIP ? VR_BLEND_MIP : b->mode == BLEND_DEMIP ? VR_BLEND_DEMIP
                                                                           : VR_BLEND_MIDA;
     c->pyramid = b->pyramid == SCALAR_PYRAMID_BOX ? VR_PYRAMID_BOX : VR_PYRAMID_MAX;
