@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "firmware/gp/vr_blend_kernels.h"
 #include "firmware/host/fw_session.h"
@@ -240,4 +241,42 @@ TEST(fw_blend_object_slabs_refused_with_reason)
     if (st == PP5_OK)
         fw_session_free(&s);
     volume_free(&f.v);
+}
+
+/* The command: a machine DEMIP frame with the sphere, its report's blend
+ * statistics and its agreement with render/; object slabs refused with the
+ * reason and no image written. */
+TEST(fw_blend_cli_renders_on_the_machine_and_refuses_object_slabs)
+{
+    const char *dir = pp5_test_outdir();
+    char args[1400], out[600], err[600], json[600], png[600];
+    snprintf(out, sizeof out, "%s/stdout.txt", dir);
+    snprintf(err, sizeof err, "%s/stderr.txt", dir);
+    snprintf(json, sizeof json, "%s/r.json", dir);
+    snprintf(png, sizeof png, "%s/d.png", dir);
+    snprintf(args, sizeof args, "render --machine --phantom sphere-shell --size 32x32 --blend demip "
+             "--demip-reading B --sphere-weight 0.3 --division resident --report %s --out %s",
+             json, png);
+    CHECK_EQ(pp5_test_run_cli(args, out, NULL), 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text);
+    CHECK(strstr(text, "bottleneck") != NULL);
+    CHECK(strstr(text, "DEMIP ray-2 samples") != NULL);
+    CHECK_MSG(strstr(text, "PSNR inf dB, max diff 0") != NULL, "not identical to render/: %s", text);
+    free(text);
+    char *report = pp5_test_read_file(json);
+    REQUIRE(report);
+    CHECK(strstr(report, "\"demip_ray2_samples\"") != NULL);
+    CHECK(strstr(report, "\"blend\": \"demip\"") != NULL);
+    free(report);
+    remove(png);
+    snprintf(args, sizeof args, "render --machine --phantom sphere-shell --size 32x32 --blend mip "
+             "--division object-slabs --out %s", png);
+    CHECK(pp5_test_run_cli(args, NULL, err) != 0);
+    text = pp5_test_read_file(err);
+    REQUIRE(text);
+    CHECK_MSG(strstr(text, "not cast in object slabs") != NULL, "message: %s", text);
+    free(text);
+    struct stat sb;
+    CHECK(stat(png, &sb) != 0);
 }

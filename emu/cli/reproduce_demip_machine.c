@@ -161,14 +161,16 @@ void demip_machine_print(const demip_machine_t *m)
 {
     printf("  emulated Pixel-Planes 5 (16 GPs, 16 renderers), %dx%d, the frame after the first\n"
            "  (gaze moved 12 px), machine ms and the image against render/'s on the same\n"
-           "  settings:\n", m->size, m->size);
+           "  settings (compositing: against render/'s float mip map, so the machine's 8-bit\n"
+           "  formats show; firmware/ARCHITECTURE.md \"Where the machine's image differs\"):\n",
+           m->size, m->size);
     for (int mode = 0; mode < 2; mode++) {
-        printf("  %-12s %-13s %10s %-22s %s\n", mode ? "gaze" : "full", "division", "ms",
+        printf("  %-13s %-13s %10s %-22s %s\n", mode ? "gaze" : "full", "division", "ms",
                " vs native", "bottleneck");
         for (int d = 0; d < DEMIP_MDIVISIONS; d++)
             for (int p = 0; p < DEMIP_MPANELS; p++) {
                 const demip_machine_cell_t *c = &m->cell[d][p][mode];
-                printf("    %-10s %-13s", mpanel_names[p], demip_machine_division_name(d));
+                printf("    %-11s %-13s", mpanel_names[p], demip_machine_division_name(d));
                 print_cell(c);
                 printf(" %s\n", c->refused  ? "(firmware/ARCHITECTURE.md \"Blends\")"
                                  : c->failed ? c->error
