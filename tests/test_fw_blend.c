@@ -280,3 +280,27 @@ TEST(fw_blend_cli_renders_on_the_machine_and_refuses_object_slabs)
     struct stat sb;
     CHECK(stat(png, &sb) != 0);
 }
+
+/* The host's band estimate for a blend (fw_estimate.c): rays through cold
+ * cells cost nothing, a saturated cell stops ray 1, the rest is sampled to
+ * the end.  Its bands balance a blend's first frame better than bands of
+ * equal rays. */
+TEST(fw_blend_band_estimate_balances_better_than_rays)
+{
+    double imbalance[2];
+    for (int k = 0; k < 2; k++) {
+        blend_fixture_t f;
+        blend_fixture(&f, BLEND_DEMIP, RENDER_MODE_FULL);
+        f.o.division = FW_DIVISION_RESIDENT;
+        f.o.plan = k == 0 ? FW_PLAN_SAMPLES : FW_PLAN_RAYS;
+        fw_session_t s;
+        REQUIRE(fw_session_init(&s, BLEND_JOB(f), &f.p, &f.o) == PP5_OK);
+        fw_frame_result_t r;
+        REQUIRE(fw_session_frame(&s, 24.0, 24.0, NULL, &r) == PP5_OK);
+        imbalance[k] = r.gp_imbalance;
+        fw_session_free(&s);
+        volume_free(&f.v);
+    }
+    CHECK_MSG(imbalance[0] < imbalance[1], "samples plan %.3f, rays plan %.3f", imbalance[0],
+              imbalance[1]);
+}
