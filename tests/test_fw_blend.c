@@ -162,6 +162,7 @@ TEST(fw_blend_rays_equal_render_reference_mida_perspective_entry_depth)
     vr_blend_tally_t t = {0};
     CHECK(rays_against_reference(&f, 1, &t) > 100);
     CHECK(t.terminated > 0);
+    volume_free(&f.v);
     blend_fixture(&f, BLEND_DEMIP, RENDER_MODE_FULL);
     f.rs.view.projection = PROJECTION_PERSPECTIVE;
     f.rs.blend.depth = DEMIP_DEPTH_ENTRY_PLUS_LENGTH;
