@@ -72,8 +72,12 @@ static pp5_status_t run_cell(const scene_t *sc, const render_settings_t *s, fw_d
                         .shade = sh, .settings = *s, .frames = 2};
     pp5_params_t p;
     pp5_params_default(&p);
-    p.n_gp = 16;                  /* the paper's machine (seed 001 §2) */
+    p.n_gp = 16;                  /* Pixel-Planes 5 as seed 004 describes it (§2) */
     p.n_renderers = 16;
+    /* A full-resolution blend at 512x512 takes 12-20 emulated seconds on
+     * CThead: the default 10 s guard against runaway frames would stop it. */
+    if (p.sim_budget_s < 120.0)
+        p.sim_budget_s = 120.0;
     fw_options_t o;
     fw_options_default(&o);
     o.division = division;
