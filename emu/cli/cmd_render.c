@@ -80,7 +80,9 @@ static void render_usage(void)
            "  pp5 render --phantom shepp-logan --mode gaze --gaze 300,200 --out g.png\n"
            "  pp5 render --dataset cthead --voxel-format u8 --mode full --out u8.png\n"
            "  pp5 render --volume skull_64x64x64_f32le.raw --out s.png --tf-out skull.tf\n"
-           "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n",
+           "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n"
+           "  pp5 render --machine --phantom shepp-logan --blend demip --sphere-weight 0.3 --out d.png\n"
+           "  (--machine casts every --blend; MIP, DEMIP and MIDA in image-bands or resident)\n",
            phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
 }
 
@@ -426,10 +428,6 @@ static pp5_status_t render_run(render_cmd_t *c)
         return st;
     render_job_t job;
     st = render_job_resolve(&job, &sc, &c->choices);
-    /* The firmware casts compositing rays only, so far. */
-    if (st == PP5_OK && c->machine && job.settings.blend.mode != BLEND_COMPOSITE)
-        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only; MIP, DEMIP and "
-                      "MIDA run natively (drop --machine)");
     if (st == PP5_OK && c->machine && job.settings.voxel_format != MIP3D_F32)
         st = pp5_fail(PP5_E_CONFIG, "--voxel-format %s is a native option; the machine keeps "
                       "its own RGBA8 voxels (drop --machine or --voxel-format)",
