@@ -122,8 +122,7 @@ static fw_status_t grow_triangles(gp_t *gp, poly_state_t *s)
     if (!t)
         return FW_ERROR;
     memcpy(t, s->tri, (size_t)s->n_tri * sizeof *t);
-    POLY_SPANS(&s->sp, (poly_count_t *)NULL, GROW_COPY, (uint64_t)s->n_tri * (sizeof *t / 4),
-               .loads = 1, .stores = 1, .int_ops = 1, .branches = 1);
+    poly_grow_moved((uint64_t)s->n_tri * (sizeof *t / 4), &s->sp, NULL);
     fw_free(gp, s->tri);
     s->tri = t;
     s->cap_tri = cap;
@@ -190,17 +189,8 @@ static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, int k)
         if (fw_send(gp, ring_addr(RING_NODE_RENDERER, j), RING_MSG_RENDERER_SET_REGION, args, NULL,
                     0) != FW_OK)
             return FW_ERROR;
-        pp_emit_en_all(&s->st);
-        pp_emit_seti(&s->st, POLY_PP_Z, POLY_Z_BITS, POLY_Z_FAR);
-        pp_emit_seti(&s->st, POLY_PP_R, 24,
-                     c->background_rgb[0] | c->background_rgb[1] << 8 | c->background_rgb[2] << 16);
-        if (c->shading == POLY_PHONG) {
-            pp_emit_f_set(&s->st, 0);
-            pp_emit_f_st(&s->st, POLY_PP_COVER);
-        }
-        POLY_SPANS(&s->sp, (poly_count_t *)NULL, ENC_WORD, s->st.n_words, .int_ops = 2, .stores = 1);
     }
-    POLY_SPAN(&s->sp, (poly_count_t *)NULL, REGION, .loads = 3, .int_ops = 6, .branches = 2);
+    poly_region_start(c, g == 0, &s->st, &s->sp, NULL);
     uint64_t edges0 = s->sp.n[POLY_ROW_ENC_EDGE_EMIT], sent = 0;
     const uint32_t *bin = s->list + s->start[k];
     for (uint32_t i = 0; i < s->fill[k]; i++)   /* fill[k]: the bin's size after the sort */
@@ -264,7 +254,7 @@ static fw_status_t build_phong(gp_t *gp, poly_state_t *s)
         return FW_ERROR;
     memcpy(s->phong, s->st.words, s->st.n_words * sizeof *s->phong);
     s->phong_words = s->st.n_words;
-    POLY_SPANS(&s->sp, (poly_count_t *)NULL, ENC_WORD, s->phong_words, .int_ops = 2, .stores = 1);
+    poly_words(s->phong_words, &s->sp, NULL);
     charge(gp, s, POLY_STAT_CYC_ENCODE);
     return FW_OK;
 }

@@ -592,4 +592,42 @@ static inline bool poly_encode(const poly_config_t *c, const poly_tri_t *t, int3
     return true;
 }
 
+/* The words of a stream written outside poly_encode (the region's clear,
+ * the Phong stream): each assembled and stored. */
+static inline void poly_words(size_t words, poly_spans_t *sp, poly_count_t *cnt)
+{
+    POLY_SPANS(sp, cnt, ENC_WORD, words, .int_ops = 2, .stores = 1);
+}
+
+/* A region's stream begins: its bin and origin; the first GP (clear) also
+ * clears depth to the far value and colour to the background (and, Phong,
+ * the covered bits). */
+static inline void poly_region_start(const poly_config_t *c, bool clear, pp_stream_t *st,
+                                     poly_spans_t *sp, poly_count_t *cnt)
+{
+    /* the bin's start and size and the region number (3 loads); its x, y
+     * (a divide and a remainder by the per-frame row length: 2 ops, [I] a
+     * reciprocal table) and origin (2 shifts); the encode loop's set-up (2
+     * ops); the clear and shading tests */
+    POLY_SPAN(sp, cnt, REGION, .loads = 3, .int_ops = 6, .branches = 2);
+    if (!clear)
+        return;
+    size_t w0 = st->n_words;
+    pp_emit_en_all(st);
+    pp_emit_seti(st, POLY_PP_Z, POLY_Z_BITS, POLY_Z_FAR);
+    pp_emit_seti(st, POLY_PP_R, 24, c->background_rgb[0] | c->background_rgb[1] << 8 | c->background_rgb[2] << 16);
+    if (c->shading == POLY_PHONG) {
+        pp_emit_f_set(st, 0);
+        pp_emit_f_st(st, POLY_PP_COVER);
+    }
+    poly_words(st->n_words - w0, sp, cnt);
+}
+
+/* A full triangle table moved to a larger one: `words` 32-bit words. */
+static inline void poly_grow_moved(uint64_t words, poly_spans_t *sp, poly_count_t *cnt)
+{
+    /* per word: load, store, the address increment, the loop test */
+    POLY_SPANS(sp, cnt, GROW_COPY, words, .loads = 1, .stores = 1, .int_ops = 1, .branches = 1);
+}
+
 #endif
