@@ -266,7 +266,7 @@ TEST(fw_poly_qee_edges_exact_on_large_and_negative_coordinates)
     memset(&c, 0, sizeof c);
     c.width = 2048, c.height = 1024, c.shading = POLY_FLAT;
     poly_screen_t v[3] = {{0, 0, 0, -16000 * 16 + 5, -12000 * 16 + 11},
-                          {0, 0, 0, 15000 * 16 + 3, -3000 * 16 - 7},
+                          {0, 0, 0, 16000 * 16 + 3, 12000 * 16 - 7},
                           {0, 0, 0, -7000 * 16 - 9, 8000 * 16 + 1}};
     float vals[4][3] = {{4e6f, 5e6f, 6e6f}};
     poly_tri_t t;
@@ -276,7 +276,11 @@ TEST(fw_poly_qee_edges_exact_on_large_and_negative_coordinates)
     pp5_params_default(&p);
     renderer_t r;
     REQUIRE(renderer_init(&r, 0, &p.pp) == PP5_OK);
-    const int origins[5][2] = {{-564, -7564}, {3936, 2436}, {-7064, 7936}, {-8050, 5700}, {-8000, -8000}};
+    /* the long edge 0-1 (y = 3x/4) through (-64, -64), and clipping the
+     * bottom-left corner of (1000, 623), whose far corner is 178 pixels from
+     * it (|e| near 2^31 there); corner 2; edge 2-0 at x = -8000; a region
+     * far down and left */
+    const int origins[5][2] = {{-64, -64}, {1000, 623}, {-7064, 7936}, {-8050, 5700}, {-8000, -8000}};
     uint32_t *z = malloc(sizeof *z * 128 * 128);
     REQUIRE(z != NULL);
     int inside_total = 0;
