@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "firmware/host/poly_scene.h"
 #include "firmware/host/poly_session.h"
 #include "harness.h"
 #include "render/mesh/mesh.h"
@@ -347,4 +348,53 @@ TEST(fw_poly_images_and_cycles_are_deterministic)
     for (int k = 0; k < 2; k++)
         image8_free(&img[k]);
     mesh_free(&m);
+}
+
+/* The throughput is counted, not fitted: a cost parameter moved by delta
+ * moves the bottleneck stage by (its counted operations) x delta and the
+ * figure to triangles / the new stage, computed here by hand from the
+ * first run's counts.  GP-bound (one GP): i860.fdiv_cycles; renderer-bound
+ * (one renderer, 32 GPs, 4 regions): pp.qee_fill_cycles. */
+static void bench_run(unsigned n_gp, unsigned n_r, int size, const char *set, poly_frame_result_t *r)
+{
+    pp5_params_t p;
+    machine_params(&p, n_gp, n_r);
+    if (set)
+        REQUIRE(pp5_params_set_kv(&p, set) == PP5_OK);
+    poly_tri_in_t *t;
+    raster_camera_t cam;
+    REQUIRE(poly_scene_triangles(600, 100, size, size, 5u, &t, &cam) == PP5_OK);
+    raster_style_t st;
+    raster_style_default(&st, RASTER_GOURAUD);
+    poly_options_t o;
+    poly_options_default(&o);
+    poly_session_t s;
+    REQUIRE_MSG(poly_session_init(&s, &p, t, 600, size, size, &cam, &st, &o) == PP5_OK, "%s",
+                pp5_error_text());
+    REQUIRE(poly_session_frame(&s, NULL, r) == PP5_OK);
+    poly_session_free(&s);
+    free(t);
+}
+
+TEST(fw_poly_throughput_moves_with_cost_parameters_as_by_hand)
+{
+    poly_frame_result_t a, b;
+    bench_run(1, 16, 512, NULL, &a);
+    bench_run(1, 16, 512, "i860.fdiv_cycles=35", &b);   /* default 25 */
+    CHECK(a.stage_s[POLY_STAGE_GP] > a.stage_s[POLY_STAGE_RENDERER]);
+    double gp_hand = a.stage_s[POLY_STAGE_GP] + 10.0 * (double)a.gp_fdiv_busiest / 40e6;
+    CHECK_NEAR(b.stage_s[POLY_STAGE_GP], gp_hand, 1e-12);
+    CHECK_NEAR(b.tris_per_s_pipelined, 600.0 / gp_hand, 1e-6);
+    CHECK(b.tris_per_s_pipelined < a.tris_per_s_pipelined);
+
+    bench_run(32, 1, 256, NULL, &a);
+    bench_run(32, 1, 256, "pp.qee_fill_cycles=20", &b);   /* default 16 */
+    CHECK_MSG(strcmp(a.bottleneck, poly_stage_name(POLY_STAGE_RENDERER)) == 0, "bottleneck %s",
+              a.bottleneck);
+    CHECK_EQ(b.rn_exec_cycles_total, a.rn_exec_cycles_total + 4 * a.rn_qee_count);
+    /* Gouraud: per pair 4 QEEs (depth, 3 colours) plus its edges */
+    CHECK_EQ(a.rn_qee_count, 4 * a.pairs_sent + a.edges_sent);
+    double rn_hand = a.stage_s[POLY_STAGE_RENDERER] + 4.0 * (double)a.rn_qee_count / 40e6;
+    CHECK_NEAR(b.stage_s[POLY_STAGE_RENDERER], rn_hand, 1e-12);
+    CHECK_NEAR(b.tris_per_s_pipelined, 600.0 / rn_hand, 1e-6);
 }

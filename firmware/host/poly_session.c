@@ -23,7 +23,8 @@ const char *poly_stage_name(poly_stage_t s)
 {
     static const char *const names[POLY_STAGE_COUNT] = {"GP (transform, sort, encode)",
                                                        "renderers (PP rasterisation, readout)",
-                                                       "ring (busiest channel)"};
+                                                       "ring (channel time / channels)",
+                                                       "renderer port (region transfers)"};
     return s < POLY_STAGE_COUNT ? names[s] : "?";
 }
 
@@ -226,6 +227,8 @@ static void gather_gps(const poly_session_t *s, const stats_t *f, pp5_tick_t t0,
         r->gp_transform_sort_s_max = fmax(r->gp_transform_sort_s_max, (double)(ct + cs) / hz);
         r->gp_encode_s_max = fmax(r->gp_encode_s_max, (double)ce / hz);
         double busy = stats_valuef(f, "gp.%u.busy_s", g);
+        if (busy > r->gp_busy_s_max)
+            r->gp_fdiv_busiest = (uint64_t)stats_valuef(f, "gp.%u.ops.fdiv", g);
         r->gp_busy_s_max = fmax(r->gp_busy_s_max, busy);
         sum += busy;
         /* the phase times are values (the last frame's), not differences */
@@ -243,17 +246,16 @@ static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_r
         r->rn_exec_cycles_total += ex;
         r->rn_exec_cycles_max = ex > r->rn_exec_cycles_max ? ex : r->rn_exec_cycles_max;
         r->rn_port_cycles_total += (uint64_t)stats_valuef(f, "renderer.%u.port_cycles", j);
+        r->rn_qee_cycles_total += (uint64_t)stats_valuef(f, "renderer.%u.pp.cycles_by_class.qee", j);
+        r->rn_qee_count += (uint64_t)stats_valuef(f, "renderer.%u.pp.instructions_by_class.qee", j);
         double busy = stats_valuef(f, "renderer.%u.busy_s", j);
         r->rn_busy_s_max = fmax(r->rn_busy_s_max, busy);
         sum += busy;
     }
     r->rn_busy_s_mean = s->m.n_rn ? sum / s->m.n_rn : 0;
-    double ch_max = 0, ch_sum = 0;
-    for (unsigned c = 0; c < s->params.ring_channels; c++) {
-        double b = stats_valuef(f, "ring.by_channel.%u.busy_s", c);
-        ch_max = fmax(ch_max, b);
-        ch_sum += b;
-    }
+    double ch_sum = 0;
+    for (unsigned c = 0; c < s->params.ring_channels; c++)
+        ch_sum += stats_valuef(f, "ring.by_channel.%u.busy_s", c);
     const machine_frame_t *mf = &s->m.frames[s->m.n_frames - 1];
     for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
         r->ring_bytes[k] = (uint64_t)stats_valuef(f, "ring.by_class.%s.bytes_sent", stats_class_name(k));
@@ -264,7 +266,16 @@ static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_r
     r->ring_util_total = T > 0 ? ch_sum / (s->params.ring_channels * T) : 0;
     r->stage_s[POLY_STAGE_GP] = r->gp_busy_s_max;
     r->stage_s[POLY_STAGE_RENDERER] = r->rn_busy_s_max;
-    r->stage_s[POLY_STAGE_RING] = ch_max;
+    /* Channels are taken lowest-free first, so with sparse traffic one
+     * channel carries most of it: the ring's capacity is the sum over the
+     * channels.  A node sends one message at a time (emu/ring.h), so a
+     * renderer's regions leave one after another: regions x wire time. */
+    r->stage_s[POLY_STAGE_RING] = ch_sum / s->params.ring_channels;
+    int regions = ((s->cfg.width + 127) / 128) * ((s->cfg.height + 127) / 128);
+    int per_rn = (regions + (int)s->m.n_rn - 1) / (int)s->m.n_rn;
+    double wire_bytes = 128.0 * 128 * 3 + s->params.ring_header_bytes;
+    double cycles = ceil(wire_bytes / (s->params.ring_width_bits / 8));
+    r->stage_s[POLY_STAGE_RN_PORT] = per_rn * cycles / s->params.ring_clock_hz;
     int b = 0;
     for (int k = 1; k < POLY_STAGE_COUNT; k++)
         if (r->stage_s[k] > r->stage_s[b])

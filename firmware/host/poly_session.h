@@ -30,7 +30,8 @@ const char *poly_shading_name(poly_shading_t s);
 typedef enum {
     POLY_STAGE_GP = 0,          /* transform, sort, encode, sends: the busiest GP */
     POLY_STAGE_RENDERER,        /* PP rasterisation and readout: the busiest renderer */
-    POLY_STAGE_RING,            /* the busiest ring channel (commands, tokens, regions) */
+    POLY_STAGE_RING,            /* the ring: all channel time / channels */
+    POLY_STAGE_RN_PORT,         /* the busiest renderer's region transfers through its one transmitter */
     POLY_STAGE_COUNT
 } poly_stage_t;
 
@@ -45,10 +46,12 @@ typedef struct {
     /* GP work (sums over GPs) and the busiest GP's split */
     uint64_t tris_in, tris_setup, pairs_binned, pairs_sent, edges_sent, stream_words, regions;
     uint64_t cycles_transform, cycles_sort, cycles_encode;
+    uint64_t gp_fdiv_busiest;             /* fdiv operations charged by the busiest GP */
     double gp_transform_sort_s_max, gp_encode_s_max, gp_busy_s_max, gp_busy_s_mean;
     double gp_sorted_s_max;               /* the last GP's end of transform and sort, from frame start */
     /* renderers */
     uint64_t rn_exec_cycles_total, rn_exec_cycles_max, rn_port_cycles_total;
+    uint64_t rn_qee_cycles_total, rn_qee_count;   /* of the exec cycles: QEE instructions */
     double rn_busy_s_max, rn_busy_s_mean;
     /* ring */
     uint64_t ring_bytes[RING_CLASS_COUNT], ring_bytes_total;
