@@ -398,3 +398,25 @@ TEST(fw_poly_throughput_moves_with_cost_parameters_as_by_hand)
     CHECK_NEAR(b.stage_s[POLY_STAGE_RENDERER], rn_hand, 1e-12);
     CHECK_NEAR(b.tris_per_s_pipelined, 600.0 / rn_hand, 1e-6);
 }
+
+/* The command prints the published figures with their sources beside
+ * ours, both sweeps, and rejects a bad option with a one-line error. */
+TEST(fw_poly_reproduce_polygons_prints_the_table)
+{
+    char out[1200], err[1200];
+    snprintf(out, sizeof out, "%s/repro_poly_out.txt", pp5_test_outdir());
+    snprintf(err, sizeof err, "%s/repro_poly_err.txt", pp5_test_outdir());
+    REQUIRE(pp5_test_run_cli("reproduce polygons --quick --triangles 300", out, err) == 0);
+    char *text = pp5_test_read_file(out);
+    REQUIRE(text);
+    CHECK(strstr(text, "1.60 M/s") != NULL && strstr(text, "measured Apr 1991 [S] S3") != NULL);
+    CHECK(strstr(text, "design target 1989 [C] S1") != NULL);
+    CHECK(strstr(text, "Sweep over triangle size") != NULL && strstr(text, "Sweep over GP count") != NULL);
+    CHECK(strstr(text, "turn:") != NULL);
+    free(text);
+    CHECK(pp5_test_run_cli("reproduce polygons --triangles 5", out, err) != 0);
+    text = pp5_test_read_file(err);
+    REQUIRE(text);
+    CHECK(strstr(text, "--triangles") != NULL && strchr(text, '\n') == text + strlen(text) - 1);
+    free(text);
+}
