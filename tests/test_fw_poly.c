@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "firmware/host/poly_report.h"
 #include "firmware/host/poly_scene.h"
 #include "firmware/host/poly_session.h"
 #include "harness.h"
@@ -419,4 +420,104 @@ TEST(fw_poly_reproduce_polygons_prints_the_table)
     REQUIRE(text);
     CHECK(strstr(text, "--triangles") != NULL && strchr(text, '\n') == text + strlen(text) - 1);
     free(text);
+}
+
+/* Bad input: a clear error naming it, never a crash or a half-written
+ * report. */
+TEST(fw_poly_bad_input_is_a_clear_error)
+{
+    pp5_params_t p;
+    machine_params(&p, 2, 2);
+    poly_tri_in_t *t;
+    raster_camera_t cam;
+    REQUIRE(poly_scene_triangles(50, 100, 256, 256, 3u, &t, &cam) == PP5_OK);
+    raster_style_t st;
+    raster_style_default(&st, RASTER_GOURAUD);
+    poly_options_t o;
+    poly_options_default(&o);
+    poly_session_t s;
+    t[7].p[1][2] = NAN;
+    CHECK(poly_session_init(&s, &p, t, 50, 256, 256, &cam, &st, &o) == PP5_E_RANGE);
+    CHECK(strstr(pp5_error_text(), "triangle 7") != NULL);
+    poly_session_free(&s);
+    t[7].p[1][2] = -3;
+    CHECK(poly_session_init(&s, &p, t, 50, 4096, 256, &cam, &st, &o) == PP5_E_RANGE);
+    poly_session_free(&s);
+    /* GP memory too small for the triangles: the firmware's own error */
+    REQUIRE(pp5_params_set_kv(&p, "gp.local_mem_bytes=40000") == PP5_OK);
+    pp5_status_t rc = poly_session_init(&s, &p, t, 50, 256, 256, &cam, &st, &o);
+    poly_frame_result_t r;
+    if (rc == PP5_OK)
+        rc = poly_session_frame(&s, NULL, &r);
+    CHECK(rc == PP5_E_FIRMWARE);
+    poly_session_free(&s);
+    free(t);
+}
+
+TEST(fw_poly_report_holds_the_frame)
+{
+    mesh_t m;
+    REQUIRE(mesh_gen_cube(3, &m) == PP5_OK);
+    raster_camera_t cam;
+    raster_camera_fit(&m, 30, 25, 1.0, true, &cam);
+    raster_style_t st;
+    raster_style_default(&st, RASTER_GOURAUD);
+    pp5_params_t p;
+    machine_params(&p, 2, 2);
+    poly_options_t o;
+    poly_options_default(&o);
+    poly_session_t s;
+    REQUIRE(poly_session_init_mesh(&s, &p, &m, 128, 128, &cam, &st, &o) == PP5_OK);
+    poly_frame_result_t r;
+    image8_t img, ref;
+    REQUIRE(poly_session_frame(&s, &img, &r) == PP5_OK);
+    native_image(&m, 128, 128, &cam, &st, &ref);
+    poly_compare_t c;
+    REQUIRE(poly_compare_images(&img, &ref, BG, &c) == PP5_OK);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/poly_report.json", pp5_test_outdir());
+    REQUIRE(poly_report_write(path, &s, &r, "cube", &c) == PP5_OK);
+    char *text = pp5_test_read_file(path);
+    REQUIRE(text);
+    CHECK(strstr(text, "\"triangles_per_s_pipelined\"") && strstr(text, "\"bottleneck\"") &&
+          strstr(text, "\"rasterisation_cycles_total\"") && strstr(text, "\"image_vs_mesh_raster\""));
+    CHECK_EQ(r.tris_in, (uint64_t)m.n_faces);
+    CHECK(r.rn_exec_cycles_total > 0);
+    CHECK_EQ(r.ring_bytes[RING_CLASS_PIXELS], 128u * 128 * 3 + p.ring_header_bytes);   /* one region, wire bytes */
+    free(text);
+    image8_free(&img);
+    image8_free(&ref);
+    poly_session_free(&s);
+    mesh_free(&m);
+}
+
+/* A camera set between frames gives the image a fresh session with that
+ * camera gives. */
+TEST(fw_poly_camera_between_frames_equals_a_fresh_session)
+{
+    mesh_t m;
+    REQUIRE(mesh_gen_torus(16, 8, 1.0, 0.4, &m) == PP5_OK);
+    raster_camera_t c1, c2;
+    raster_camera_fit(&m, 0, 10, 1.0, true, &c1);
+    raster_camera_fit(&m, 70, 40, 1.0, true, &c2);
+    raster_style_t st;
+    raster_style_default(&st, RASTER_GOURAUD);
+    pp5_params_t p;
+    machine_params(&p, 2, 3);
+    poly_options_t o;
+    poly_options_default(&o);
+    poly_session_t s;
+    poly_frame_result_t r;
+    image8_t a, b;
+    REQUIRE(poly_session_init_mesh(&s, &p, &m, 128, 128, &c1, &st, &o) == PP5_OK);
+    REQUIRE(poly_session_frame(&s, &a, &r) == PP5_OK);
+    image8_free(&a);
+    REQUIRE(poly_session_set_camera(&s, &c2) == PP5_OK);
+    REQUIRE(poly_session_frame(&s, &a, &r) == PP5_OK);
+    poly_session_free(&s);
+    machine_image(&m, 128, 128, &c2, &st, POLY_GOURAUD, 2, 3, &b, NULL);
+    CHECK(memcmp(a.pixels, b.pixels, (size_t)128 * 128 * 3) == 0);
+    image8_free(&a);
+    image8_free(&b);
+    mesh_free(&m);
 }

@@ -2,10 +2,38 @@
 #include "poly_report.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "json.h"
 #include "outfile.h"
 #include "stats.h"
+
+pp5_status_t poly_compare_images(const image8_t *machine, const image8_t *native,
+                                 const uint8_t background[3], poly_compare_t *out)
+{
+    memset(out, 0, sizeof *out);
+    if (machine->width != native->width || machine->height != native->height ||
+        machine->channels != 3 || native->channels != 3)
+        return pp5_fail(PP5_E_RANGE, "polygons: images of %dx%d and %dx%d cannot be compared",
+                        machine->width, machine->height, native->width, native->height);
+    double se = 0;
+    size_t n = (size_t)machine->width * (size_t)machine->height;
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *a = machine->pixels + 3 * i, *b = native->pixels + 3 * i;
+        bool ca = memcmp(a, background, 3) != 0, cb = memcmp(b, background, 3) != 0;
+        out->covered_native += cb;
+        out->covered_one_only += ca != cb;
+        for (int k = 0; k < 3; k++) {
+            int d = abs(a[k] - b[k]);
+            out->max_abs_diff = d > out->max_abs_diff ? d : out->max_abs_diff;
+            se += (double)d * d;
+        }
+    }
+    out->psnr_db = se > 0 ? 10 * log10(255.0 * 255.0 * 3.0 * (double)n / se) : INFINITY;
+    out->have = true;
+    return PP5_OK;
+}
 
 void poly_report_print(FILE *log, const poly_session_t *s, const poly_frame_result_t *r)
 {

@@ -15,6 +15,10 @@ typedef struct {
     long covered_native, covered_one_only;   /* pixels drawn by mesh_raster; drawn by one image only */
 } poly_compare_t;
 
+/* Fills *out from the machine's image and mesh_raster's of the same view
+ * (same size), a pixel counting as covered where it is not `background`. */
+pp5_status_t poly_compare_images(const image8_t *machine, const image8_t *native,
+                                 const uint8_t background[3], poly_compare_t *out);
 /* The frame in text, a line per stage. */
 void poly_report_print(FILE *log, const poly_session_t *s, const poly_frame_result_t *r);
 /* The JSON report (written whole or not at all); cmp may be NULL. */
