@@ -18,6 +18,7 @@
 #include "render/mesh/mesh_gen.h"
 #include "render/mesh/mesh_raster.h"
 #include "renderer.h"
+#include "firmware/common/poly_phong_pp.h"
 #include "firmware/gp/poly_kernels.h"
 
 static const uint8_t BG[3] = {24, 26, 32};
@@ -520,4 +521,80 @@ TEST(fw_poly_camera_between_frames_equals_a_fresh_session)
     image8_free(&a);
     image8_free(&b);
     mesh_free(&m);
+}
+
+/* The PPs' Phong shading against float arithmetic: normals of lengths 0.5
+ * to 1 in every direction (as interpolation leaves them), written straight
+ * into PP memory, front and back, shaded by the stream; every PP's colour
+ * within 1 of round(rgb (ambient + diffuse max(0, N.L / |N|))), clamped.
+ * (Lengths below 1/2 are clamped by the stream: not tested.) */
+TEST(fw_poly_phong_stream_matches_float_shading)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    renderer_t r;
+    REQUIRE(renderer_init(&r, 0, &p.pp) == PP5_OK);
+    const int n = 128 * 128;
+    uint32_t *f[5], *out[3];
+    for (int k = 0; k < 5; k++)
+        REQUIRE((f[k] = calloc((size_t)n, sizeof *f[k])) != NULL);
+    for (int k = 0; k < 3; k++)
+        REQUIRE((out[k] = calloc((size_t)n, sizeof *out[k])) != NULL);
+    double (*nv)[3] = malloc(sizeof *nv * (size_t)n);
+    REQUIRE(nv != NULL);
+    unsigned seed = 11u;
+    for (int i = 0; i < n; i++) {
+        double v[3], l2 = 0, len;
+        do {
+            l2 = 0;
+            for (int k = 0; k < 3; k++) {
+                seed = seed * 1103515245u + 12345u;
+                v[k] = (double)(seed >> 8) / 8388608.0 - 1.0;
+                l2 += v[k] * v[k];
+            }
+        } while (l2 < 1e-3 || l2 > 1);
+        seed = seed * 1103515245u + 12345u;
+        len = 0.5 + 0.5 * (double)(seed >> 8) / 16777216.0;
+        for (int k = 0; k < 3; k++) {
+            nv[i][k] = v[k] / sqrt(l2) * len;
+            f[k][i] = (uint32_t)(int32_t)lrint(nv[i][k] * POLY_N_ONE) & 0xffffu;
+        }
+        f[3][i] = 1;               /* covered */
+        f[4][i] = (unsigned)i & 1; /* back */
+    }
+    static const unsigned addr[5] = {POLY_PP_NX, POLY_PP_NY, POLY_PP_NZ, POLY_PP_COVER, POLY_PP_BACK};
+    for (int k = 0; k < 5; k++)
+        REQUIRE(renderer_write_field(&r, addr[k], k < 3 ? 16 : 1, f[k]) == PP5_OK);
+    const float light[3] = {-0.4545f, 0.5555f, 0.6963f};
+    const int32_t front[3] = {214, 208, 196}, back[3] = {150, 96, 84};
+    pp_stream_t st;
+    pp_stream_init(&st);
+    poly_phong_stream(&st, light, 0.18f, 0.82f, front, back);
+    REQUIRE(pp_stream_ok(&st));
+    renderer_exec_result_t res;
+    REQUIRE(renderer_execute(&r, st.words, st.n_words, &res) == PP5_OK);
+    static const unsigned ch[3] = {POLY_PP_R, POLY_PP_G, POLY_PP_B};
+    for (int k = 0; k < 3; k++)
+        REQUIRE(renderer_read_field(&r, ch[k], 8, out[k]) == PP5_OK);
+    int worst = 0;
+    for (int i = 0; i < n; i++) {
+        double len = sqrt(nv[i][0] * nv[i][0] + nv[i][1] * nv[i][1] + nv[i][2] * nv[i][2]);
+        double d = (nv[i][0] * light[0] + nv[i][1] * light[1] + nv[i][2] * light[2]) / len;
+        double in = 0.18 + 0.82 * (d > 0 ? d : 0);
+        const int32_t *rgb = (i & 1) ? back : front;
+        for (int k = 0; k < 3; k++) {
+            double c = rgb[k] * in;
+            int want = c >= 255 ? 255 : (int)(c + 0.5);
+            int diff = abs((int)out[k][i] - want);
+            worst = diff > worst ? diff : worst;
+        }
+    }
+    CHECK_MSG(worst <= 1, "the PPs' Phong colour differs from float by up to %d", worst);
+    pp_stream_free(&st);
+    for (int k = 0; k < 5; k++)
+        free(f[k]);
+    for (int k = 0; k < 3; k++)
+        free(out[k]);
+    free(nv);
+    renderer_free(&r);
 }

@@ -34,7 +34,6 @@ typedef struct {
     size_t phong_words;
     int regions_x, regions_y, n_regions;
     uint32_t frame;
-    pp_stream_t st;
     poly_spans_t sp;
     fw_stat_t stat[POLY_STAT_COUNT];
 } poly_state_t;
@@ -85,7 +84,6 @@ static fw_status_t poly_start(gp_t *gp)
         return FW_ERROR;
     fw_set_state(gp, s);
     declare_stats(gp, s);
-    pp_stream_init(&s->st);
     if (set_config(gp, s, c) != FW_OK)
         return FW_ERROR;
     size_t n = (size_t)s->n_regions;
@@ -104,7 +102,8 @@ static fw_status_t take_triangles(gp_t *gp, poly_state_t *s, const ring_msg_t *m
     s->in = fw_alloc(gp, msg->payload_bytes + 1);
     if (!s->in)
         return FW_ERROR;
-    memcpy(s->in, msg->payload, msg->payload_bytes);
+    if (msg->payload_bytes)
+        memcpy(s->in, msg->payload, msg->payload_bytes);
     fw_ops_t ops = {0};
     fw_rx_deposit(gp, &ops, s->in, 0, msg->payload_bytes);
     fw_charge(gp, &ops);
@@ -158,7 +157,7 @@ static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
     return FW_OK;
 }
 
-/* Sends the words of s->st (a copy in local memory while it is sent; the
+/* Sends n stream words (a copy in local memory while they are sent; the
  * encoder's stores were charged as ENC_WORD). */
 static fw_status_t send_words(gp_t *gp, poly_state_t *s, unsigned renderer, const uint32_t *words,
                               size_t n)
@@ -177,39 +176,50 @@ static fw_status_t send_words(gp_t *gp, poly_state_t *s, unsigned renderer, cons
     return rc;
 }
 
-/* This GP's part of region k on renderer j (see the file comment). */
-static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, int k)
+/* The stream of this GP's triangles in region k (the first GP's also
+ * clears the region), charged. */
+static fw_status_t build_region(gp_t *gp, poly_state_t *s, int k, pp_stream_t *st)
 {
-    unsigned g = fw_gp_index(gp);
     const poly_config_t *c = &s->cfg;
     int32_t rx = (k % s->regions_x) * 128, ry = (k / s->regions_x) * 128;
-    pp_stream_clear(&s->st);
-    if (g == 0) {
-        uint32_t args[RING_MSG_ARGS] = {(uint32_t)rx, (uint32_t)ry, 0, 0, 0, 0};
-        if (fw_send(gp, ring_addr(RING_NODE_RENDERER, j), RING_MSG_RENDERER_SET_REGION, args, NULL,
-                    0) != FW_OK)
-            return FW_ERROR;
-    }
-    poly_region_start(c, g == 0, &s->st, &s->sp, NULL);
+    poly_region_start(c, fw_gp_index(gp) == 0, st, &s->sp, NULL);
     uint64_t edges0 = s->sp.n[POLY_ROW_ENC_EDGE_EMIT], sent = 0;
     const uint32_t *bin = s->list + s->start[k];
     for (uint32_t i = 0; i < s->fill[k]; i++)   /* fill[k]: the bin's size after the sort */
-        sent += poly_encode(c, &s->tri[bin[i]], rx, ry, &s->st, &s->sp, NULL);
+        sent += poly_encode(c, &s->tri[bin[i]], rx, ry, st, &s->sp, NULL);
     fw_stat_add(gp, s->stat[POLY_STAT_EDGES_SENT], s->sp.n[POLY_ROW_ENC_EDGE_EMIT] - edges0);
     fw_stat_add(gp, s->stat[POLY_STAT_PAIRS_SENT], sent);
     fw_stat_add(gp, s->stat[POLY_STAT_REGIONS], 1);
     charge(gp, s, POLY_STAT_CYC_ENCODE);
-    if (!pp_stream_ok(&s->st))
-        return fw_fail(gp, "polygons: region (%d,%d): %s", rx, ry, pp_stream_error(&s->st));
-    if (send_words(gp, s, j, s->st.words, s->st.n_words) != FW_OK)
-        return FW_ERROR;
-    if (g + 1 < fw_machine_info(gp)->n_gp)
-        return FW_OK;
+    if (!pp_stream_ok(st))
+        return fw_fail(gp, "polygons: region (%d,%d): %s", rx, ry, pp_stream_error(st));
+    return FW_OK;
+}
+
+/* This GP's part of region k on renderer j (see the file comment). */
+static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, int k)
+{
+    unsigned g = fw_gp_index(gp);
+    ring_addr_t rn = ring_addr(RING_NODE_RENDERER, j);
+    if (g == 0) {
+        uint32_t args[RING_MSG_ARGS] = {(uint32_t)(k % s->regions_x) * 128,
+                                        (uint32_t)(k / s->regions_x) * 128, 0, 0, 0, 0};
+        if (fw_send(gp, rn, RING_MSG_RENDERER_SET_REGION, args, NULL, 0) != FW_OK)
+            return FW_ERROR;
+    }
+    pp_stream_t st;
+    pp_stream_init(&st);
+    fw_status_t rc = build_region(gp, s, k, &st);
+    if (rc == FW_OK)
+        rc = send_words(gp, s, j, st.words, st.n_words);
+    pp_stream_free(&st);
+    if (rc != FW_OK || g + 1 < fw_machine_info(gp)->n_gp)
+        return rc;
     if (send_words(gp, s, j, s->phong, s->phong_words) != FW_OK)
         return FW_ERROR;
     uint32_t px[RING_MSG_ARGS] = {POLY_PP_R, POLY_PP_G, POLY_PP_B,
                                   ring_addr_pack(ring_addr(RING_NODE_FB, 0)), 0, 0};
-    return fw_send(gp, ring_addr(RING_NODE_RENDERER, j), RING_MSG_RENDERER_SEND_PIXELS, px, NULL, 0);
+    return fw_send(gp, rn, RING_MSG_RENDERER_SEND_PIXELS, px, NULL, 0);
 }
 
 /* The token of renderer j's round r reached this GP: its part of the
@@ -244,16 +254,21 @@ static fw_status_t build_phong(gp_t *gp, poly_state_t *s)
     s->phong_words = 0;
     if (s->cfg.shading != POLY_PHONG || fw_gp_index(gp) + 1 != fw_machine_info(gp)->n_gp)
         return FW_OK;
-    pp_stream_clear(&s->st);
-    poly_phong_stream(&s->st, s->cfg.light, s->cfg.ambient, s->cfg.diffuse, s->cfg.front_rgb,
+    pp_stream_t st;
+    pp_stream_init(&st);
+    poly_phong_stream(&st, s->cfg.light, s->cfg.ambient, s->cfg.diffuse, s->cfg.front_rgb,
                       s->cfg.back_rgb);
-    if (!pp_stream_ok(&s->st))
-        return fw_fail(gp, "polygons: Phong stream: %s", pp_stream_error(&s->st));
-    s->phong = fw_alloc(gp, s->st.n_words * sizeof *s->phong);
-    if (!s->phong)
-        return FW_ERROR;
-    memcpy(s->phong, s->st.words, s->st.n_words * sizeof *s->phong);
-    s->phong_words = s->st.n_words;
+    fw_status_t rc = pp_stream_ok(&st) ? FW_OK
+                     : fw_fail(gp, "polygons: Phong stream: %s", pp_stream_error(&st));
+    if (rc == FW_OK && !(s->phong = fw_alloc(gp, st.n_words * sizeof *s->phong)))
+        rc = FW_ERROR;
+    if (rc == FW_OK) {
+        memcpy(s->phong, st.words, st.n_words * sizeof *s->phong);
+        s->phong_words = st.n_words;
+    }
+    pp_stream_free(&st);
+    if (rc != FW_OK)
+        return rc;
     poly_words(s->phong_words, &s->sp, NULL);
     charge(gp, s, POLY_STAT_CYC_ENCODE);
     return FW_OK;
