@@ -598,3 +598,31 @@ TEST(fw_poly_phong_stream_matches_float_shading)
     free(nv);
     renderer_free(&r);
 }
+
+/* The renderer's cycles by hand (emu/PP_ISA.md formulas, default PP
+ * parameters: cycles_per_bit 1, alu_overhead 1, enable and flag ops 1, QEE
+ * fill 16, 1 bit per clock): one Gouraud triangle inside one region, one
+ * GP, one renderer.  Clear: EN_ALL 1 + SETI 24 bits (25) + SETI 24 (25) =
+ * 51.  Triangle: EN_ALL 1; 3 edges x (QEE 16 + 31 + 1, F_LD 1, EN_ANDN 1)
+ * = 150; depth QEE 16 + 8 + 24 = 48, CMP 25, EN_AND 1, COPY 25 = 99; 3
+ * colour QEEs 16 + 16 + 8 = 40 each, 120.  In all 421. */
+TEST(fw_poly_renderer_cycles_of_one_triangle_by_hand)
+{
+    const double xyz[9] = {20, 20, -2, 90, 30, -3, 40, 100, -4};
+    mesh_t m;
+    REQUIRE(mesh_alloc(&m, 3, 1) == PP5_OK);
+    memcpy(m.pos, xyz, sizeof xyz);
+    m.tri[0] = 0, m.tri[1] = 1, m.tri[2] = 2;
+    raster_camera_t cam;
+    raster_camera_ortho(0, 128, 0, 128, 0.5, 20, &cam);
+    raster_style_t st;
+    raster_style_default(&st, RASTER_GOURAUD);
+    image8_t a;
+    poly_frame_result_t r;
+    machine_image(&m, 128, 128, &cam, &st, POLY_GOURAUD, 1, 1, &a, &r);
+    CHECK_EQ(r.pairs_sent, 1);
+    CHECK_EQ(r.edges_sent, 3);
+    CHECK_EQ(r.rn_exec_cycles_total, 421);
+    image8_free(&a);
+    mesh_free(&m);
+}
