@@ -94,8 +94,9 @@ static void print_cause(const poly_frame_result_t *r, const pp5_params_t *p)
                "bytes) one at a time over one ring channel (80 MB/s: ring.width_bits x ring.clock_hz, "
                "the split [U] facts §5.2)\n");
     } else {
-        printf("    cause: ring-bound: the busiest channel carries %.3f ms per frame (region transfers "
-               "%.1f MB, commands %.1f MB)\n", 1e3 * r->stage_s[POLY_STAGE_RING],
+        printf("    cause: ring-bound: %.3f ms of traffic per channel per frame (%u channels; region "
+               "transfers %.1f MB, a fixed cost per frame; commands %.1f MB)\n",
+               1e3 * r->stage_s[POLY_STAGE_RING], p->ring_channels,
                r->ring_bytes[RING_CLASS_PIXELS] / 1e6, r->ring_bytes[RING_CLASS_COMMAND] / 1e6);
     }
 }
