@@ -414,7 +414,7 @@ TEST(fw_poly_reproduce_polygons_prints_the_table)
     CHECK(strstr(text, "1.60 M/s") != NULL && strstr(text, "measured Apr 1991 [S] S3") != NULL);
     CHECK(strstr(text, "design target 1989 [C] S1") != NULL);
     CHECK(strstr(text, "Sweep over triangle size") != NULL && strstr(text, "Sweep over GP count") != NULL);
-    CHECK(strstr(text, "turn:") != NULL);
+    CHECK(strstr(text, "turn:") != NULL && strstr(text, "Sweep over renderer count") != NULL);
     free(text);
     CHECK(pp5_test_run_cli("reproduce polygons --triangles 5", out, err) != 0);
     text = pp5_test_read_file(err);

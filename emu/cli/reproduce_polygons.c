@@ -27,6 +27,7 @@ typedef struct {
     double area;
     poly_shading_t shading;
     unsigned n_gp;                /* 0: the parameter table's */
+    unsigned n_renderers;         /* 0: the parameter table's */
 } poly_point_t;
 
 static pp5_status_t run_point(const poly_repro_t *o, const poly_point_t *pt, poly_frame_result_t *r,
@@ -38,6 +39,8 @@ static pp5_status_t run_point(const poly_repro_t *o, const poly_point_t *pt, pol
         return st;
     if (pt->n_gp)
         p.n_gp = pt->n_gp;
+    if (pt->n_renderers)
+        p.n_renderers = pt->n_renderers;
     *used = p;
     int W = (int)p.fb_width, H = (int)p.fb_height;
     poly_tri_in_t *tris;
@@ -118,7 +121,7 @@ static int headline(const poly_repro_t *o)
 {
     poly_frame_result_t g, ph;
     pp5_params_t p;
-    poly_point_t pg = {100, POLY_GOURAUD, 0}, pp = {100, POLY_PHONG, 0};
+    poly_point_t pg = {100, POLY_GOURAUD, 0, 0}, pp = {100, POLY_PHONG, 0, 0};
     pp5_status_t st = run_point(o, &pg, &g, &p);
     if (st == PP5_OK)
         st = run_point(o, &pp, &ph, &p);
@@ -162,6 +165,28 @@ static double other_stage(const poly_frame_result_t *r)
     return m;
 }
 
+/* Fewer renderers at the most GPs: where the machine becomes renderer-bound. */
+static int renderer_sweep(const poly_repro_t *o)
+{
+    static const unsigned rns[] = {2, 4, 8, 16};
+    poly_frame_result_t r;
+    pp5_params_t p;
+    printf("\nSweep over renderer count (Gouraud, 100-pixel triangles, 32 GPs):\n");
+    printf("  %-10s %8s %10s %10s %10s %10s   %-8s %6s\n", "renderers", "M tri/s", "GP ms", "rend. ms",
+           "ring ms", "port ms", "bound", "pairs");
+    for (size_t i = 0; i < sizeof rns / sizeof rns[0]; i++) {
+        poly_point_t pt = {100, POLY_GOURAUD, 32, rns[i]};
+        char label[16];
+        snprintf(label, sizeof label, "%u", rns[i]);
+        if (run_point(o, &pt, &r, &p) != PP5_OK) {
+            printf("  %-10s not run: %s\n", label, pp5_error_text());
+            continue;
+        }
+        sweep_row(label, &r);
+    }
+    return 0;
+}
+
 static int sweeps(const poly_repro_t *o)
 {
     static const double sizes[] = {10, 30, 100, 300, 1000};
@@ -172,7 +197,7 @@ static int sweeps(const poly_repro_t *o)
     printf("\nSweep over triangle size (Gouraud, the parameter table's GP count):\n");
     printf(head, "pixels", "M tri/s", "GP ms", "rend. ms", "ring ms", "port ms", "bound", "pairs");
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
-        poly_point_t pt = {sizes[i], POLY_GOURAUD, 0};
+        poly_point_t pt = {sizes[i], POLY_GOURAUD, 0, 0};
         char label[16];
         snprintf(label, sizeof label, "%g", sizes[i]);
         if (run_point(o, &pt, &r, &p) != PP5_OK) {
@@ -189,7 +214,7 @@ static int sweeps(const poly_repro_t *o)
         for (size_t i = 0; i < sizeof gps / sizeof gps[0]; i++) {
             if (o->quick && gps[i] > 8)
                 break;
-            poly_point_t pt = {100, (poly_shading_t)sh, gps[i]};
+            poly_point_t pt = {100, (poly_shading_t)sh, gps[i], 0};
             char label[16];
             snprintf(label, sizeof label, "%u", gps[i]);
             if (run_point(o, &pt, &r, &p) != PP5_OK) {
@@ -211,7 +236,7 @@ static int sweeps(const poly_repro_t *o)
             printf("  turn: GP-bound at every GP count swept; GP time scaled by 1/GPs from the last "
                    "row meets the next stage near %.0f GPs\n", cross);
     }
-    return 0;
+    return renderer_sweep(o);
 }
 
 static int reproduce_polygons(const pp5_reproduce_opts_t *ro)
