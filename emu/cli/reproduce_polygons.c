@@ -285,5 +285,5 @@ static int reproduce_polygons(const pp5_reproduce_opts_t *ro)
     return rc ? rc : sweeps(&o);
 }
 
-PP5_REPRODUCE(polygons, "issue 13: Gouraud and Phong triangles/s beside the 1989 target and 1991 "
+PP5_REPRODUCE(polygons, "Pixel-Planes 5 polygons: Gouraud and Phong triangles/s beside the 1989 target and 1991 "
               "measurements; sweeps over triangle size and GP count", reproduce_polygons)
