@@ -273,7 +273,7 @@ static int reproduce_polygons(const pp5_reproduce_opts_t *ro)
                    "  --quick        4,000 triangles, GP counts up to 8 (a few seconds)\n"
                    "  --triangles N  triangles per frame (default 40,000)\n"
                    "  --set K=V      a machine parameter for every run (see pp5 machine)\n"
-                   "example: pp5 reproduce polygons --quick --set pp.qee_fill_cycles=8\n");
+                   "Example: pp5 reproduce polygons --quick --set pp.qee_fill_cycles=8\n");
             return 0;
         } else {
             return 2;
