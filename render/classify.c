@@ -62,8 +62,59 @@ const char *classify_preset_names(void)
     return "ct-skin, ct-skin-ramp, ct-bone, mr, shepp-logan, marschner-lobb, sphere-shell";
 }
 
+/* Index of the last point whose value is <= v (0 when v is below them all),
+ * by bisection over the increasing values. */
+#define LAST_AT_OR_BELOW(points, n, v, out)                                   \
+    do {                                                                      \
+        int lo_ = 0, hi_ = (n) - 1;                                           \
+        while (lo_ < hi_) {                                                   \
+            int mid_ = (lo_ + hi_ + 1) / 2;                                   \
+            if ((points)[mid_].value <= (v))                                  \
+                lo_ = mid_;                                                   \
+            else                                                              \
+                hi_ = mid_ - 1;                                               \
+        }                                                                     \
+        (out) = lo_;                                                          \
+    } while (0)
+
+/* The weight of point k + 1 at v between points k and k + 1 (0 outside). */
+static float between(float a, float b, float v)
+{
+    if (!(v > a))
+        return 0.0f;
+    if (!(v < b))
+        return 1.0f;
+    return (v - a) / (b - a);
+}
+
+static float classify_table(const classify_tf_t *tf, float value, float rgb[3])
+{
+    int k;
+    LAST_AT_OR_BELOW(tf->alpha, tf->n_alpha, value, k);
+    float alpha = tf->alpha[k].opacity;
+    if (k + 1 < tf->n_alpha) {
+        float w = between(tf->alpha[k].value, tf->alpha[k + 1].value, value);
+        alpha += w * (tf->alpha[k + 1].opacity - alpha);
+    }
+    if (tf->n_rgb == 0) {
+        rgb[0] = rgb[1] = rgb[2] = 1.0f;
+    } else {
+        LAST_AT_OR_BELOW(tf->rgb, tf->n_rgb, value, k);
+        float w = k + 1 < tf->n_rgb ? between(tf->rgb[k].value, tf->rgb[k + 1].value, value) : 0;
+        for (int ch = 0; ch < 3; ch++) {
+            float a = tf->rgb[k].rgb[ch];
+            rgb[ch] = k + 1 < tf->n_rgb ? a + w * (tf->rgb[k + 1].rgb[ch] - a) : a;
+        }
+    }
+    if (alpha < tf->min_opacity)
+        alpha = 0.0f;
+    return alpha;
+}
+
 float classify_voxel(const classify_tf_t *tf, float value, float grad_mag, float rgb[3])
 {
+    if (tf->n_alpha > 0)
+        return classify_table(tf, value, rgb);
     float transparency = 1.0f, wsum = 0.0f;
     float c[3] = {0.0f, 0.0f, 0.0f};
     for (int i = 0; i < tf->count; i++) {

@@ -14,13 +14,22 @@
  * alpha = 1 - prod(1 - a_i), colour = sum(a_i * rgb_i) / sum(a_i).  (Levoy 1988
  * instead interpolates opacity between adjacent contour values; the layered
  * combination is our simplification and keeps contours independent.)
- * A combined opacity below the preset's min_opacity is set to 0. */
+ * A combined opacity below the preset's min_opacity is set to 0.
+ *
+ * A transfer function may instead be a table (the users' own, from a file:
+ * classify_io.h): opacity and colour are piecewise linear in the value
+ * between control points and held beyond the first and last, with no
+ * gradient term: the 1D transfer functions of ParaView, VTK and VolPack.
+ * Opacity is per sample at the full-resolution step (one voxel by default).
+ * A function has contours or a table, never both. */
 #ifndef PP5_CLASSIFY_H
 #define PP5_CLASSIFY_H
 
+#include <stdbool.h>
 #include "status.h"
 
 #define CLASSIFY_MAX_CONTOURS 4
+#define CLASSIFY_MAX_POINTS 256
 
 typedef struct {
     float value;        /* iso-value, in the volume's own units */
@@ -35,9 +44,22 @@ typedef struct {
 } classify_contour_t;
 
 typedef struct {
+    float value, opacity;
+} classify_alpha_point_t;
+
+typedef struct {
+    float value, rgb[3];
+} classify_rgb_point_t;
+
+typedef struct {
     char name[32];
     int count;
     classify_contour_t contour[CLASSIFY_MAX_CONTOURS];
+    /* The table form (count == 0): points in increasing value order.  No
+     * colour points: white. */
+    int n_alpha, n_rgb;
+    classify_alpha_point_t alpha[CLASSIFY_MAX_POINTS];
+    classify_rgb_point_t rgb[CLASSIFY_MAX_POINTS];
     /* Voxels whose combined opacity is below this are made fully transparent
      * (VolPack's VP_MIN_VOXEL_OPACITY idea): faint wisps from noise would
      * otherwise fill the octree.  0 keeps every voxel. */
@@ -50,6 +72,12 @@ typedef struct {
  * value ranges documented in render/phantom.c). */
 pp5_status_t classify_preset(const char *name, classify_tf_t *tf);
 const char *classify_preset_names(void);
+
+/* True for the table form (n_alpha > 0). */
+static inline bool classify_tf_is_table(const classify_tf_t *tf)
+{
+    return tf->n_alpha > 0;
+}
 
 /* Opacity (0..1) of one voxel; writes its colour (not opacity-weighted) to rgb. */
 float classify_voxel(const classify_tf_t *tf, float value, float grad_mag, float rgb[3]);

@@ -9,6 +9,7 @@
 
 #include "mip3d_internal.h"
 #include "parallel.h"
+#include "progress.h"
 
 /* Level-0 voxel (x, y, z): gradient -> classification -> stored components
  * (the float values every format starts from). */
@@ -50,6 +51,11 @@ static void mip3d_base_slice(void *ctx, int z, int thread)
             mip3d_base_voxel(job, x, y, z,
                              L->data + (((size_t)z * (size_t)L->ny + (size_t)y) * (size_t)L->nx +
                                         (size_t)x) * (size_t)s);
+}
+
+static void mip3d_base_chunk_slice(void *ctx, int z, int thread)
+{
+    mip3d_base_slice(ctx, ((mip3d_job_t *)ctx)->z0 + z, thread);
 }
 
 /* Level dst from dst-1, one z slice: mean of the 2x2x2 children, children
@@ -219,12 +225,26 @@ pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
         }
         m->bytes += floats;
     }
-    mip3d_job_t job = {m, v, tf, shade, 0};
-    pp5_status_t st = parallel_for(threads, v->nz, mip3d_base_slice, &job);
+    /* Level 0 in chunks of slices, for the progress line on large volumes
+     * (each slice writes only its own voxels: the chunking changes nothing). */
+    enum { CHUNK = 8 };
+    int chunks = (v->nz + CHUNK - 1) / CHUNK;
+    progress_t pr;
+    progress_begin(&pr, "3D mip map", chunks + m->levels - 1);
+    mip3d_job_t job = {m, v, tf, shade, 0, 0};
+    pp5_status_t st = PP5_OK;
+    for (int c = 0; st == PP5_OK && c < chunks; c++) {
+        job.z0 = c * CHUNK;
+        int n = v->nz - job.z0 < CHUNK ? v->nz - job.z0 : CHUNK;
+        st = parallel_for(threads, n, mip3d_base_chunk_slice, &job);
+        progress_step(&pr, "level 0: classify and shade");
+    }
     for (int n = 1; st == PP5_OK && n < m->levels; n++) {
         job.dst = n;
         st = parallel_for(threads, m->level[n].nz, mip3d_filter_slice, &job);
+        progress_step(&pr, "coarser levels");
     }
+    progress_end(&pr);
     if (st != PP5_OK)
         mip3d_free(m);
     return st;

@@ -11,6 +11,7 @@ typedef struct {
     const classify_tf_t *tf;
     const shade_params_t *shade;
     int dst;              /* level being filled (filter jobs) */
+    int z0;               /* first slice of the chunk (base jobs) */
 } mip3d_job_t;
 
 /* The float components of level-0 voxel (x, y, z) (classification and the

@@ -175,7 +175,7 @@ pp5_status_t mip3d_build_packed(mip3d_t *m, const volume_t *v, const classify_tf
     pp5_status_t st = PP5_OK;
     for (int n = 0; st == PP5_OK && n < m->levels; n++)
         st = packed_level_alloc(m, n);
-    mip3d_job_t job = {m, v, tf, shade, 0};
+    mip3d_job_t job = {m, v, tf, shade, 0, 0};
     if (st == PP5_OK)
         st = parallel_for(threads, v->nz, packed_base_slice, &job);
     for (int n = 1; st == PP5_OK && n < m->levels; n++) {

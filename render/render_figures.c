@@ -42,7 +42,7 @@ pp5_status_t render_write_fig5(const gaze_model_t *g, const char *path)
         plot_set_style(&p, 1, PLOT_STEPS);
         plot_set_style(&p, 2, PLOT_STEPS);
         plot_set_yrange(&p, 0.0, 1.1);
-        st = plot_write_png(&p, path, 1000, 560);
+        st = plot_write(&p, path, 1000, 560);
     }
     plot_free(&p);
     return st;

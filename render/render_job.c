@@ -1,7 +1,11 @@
 /* render_job.c: the volume of a render loaded once and its defaults resolved once, for both back ends. */
 #include "render_job.h"
 
+#include <stdlib.h>
 #include <string.h>
+
+#include "classify_io.h"
+#include "volume_histogram.h"
 
 void render_input_default(render_input_t *in)
 {
@@ -35,6 +39,7 @@ static pp5_status_t load_file(const render_input_t *in, scene_t *sc)
         memcpy(sc->volume.spacing, in->raw.spacing, sizeof sc->volume.spacing);
     snprintf(sc->name, sizeof sc->name, "file");
     scene_guess_tf(&sc->volume, &sc->tf);
+    sc->tf_from_data = true;
     return PP5_OK;
 }
 
@@ -49,12 +54,74 @@ pp5_status_t render_input_load(const render_input_t *in, scene_t *sc, FILE *log)
     return st;
 }
 
+pp5_status_t render_choices_set_tf(render_choices_t *ch, const char *spec)
+{
+    ch->have_tf = true;
+    ch->tf_note[0] = '\0';
+    if (classify_preset(spec, &ch->tf) == PP5_OK)
+        return PP5_OK;
+    FILE *f = fopen(spec, "r");
+    if (!f)
+        return pp5_fail(PP5_E_CONFIG, "--tf %s: neither a preset (%s) nor a readable file", spec,
+                        classify_preset_names());
+    fclose(f);
+    return classify_tf_read(spec, &ch->tf, ch->tf_note, sizeof ch->tf_note);
+}
+
+static pp5_status_t resolve_tf(render_job_t *job, const scene_t *sc, const render_choices_t *ch)
+{
+    if (ch->have_tf) {
+        job->tf = ch->tf;
+        job->tf_origin = RENDER_TF_CHOSEN;
+        return PP5_OK;
+    }
+    job->tf = sc->tf;
+    job->tf_origin = RENDER_TF_DATASET;
+    if (!sc->tf_from_data)
+        return PP5_OK;
+    volume_histogram_t *h = malloc(sizeof *h);
+    if (!h)
+        return pp5_fail(PP5_E_NOMEM, "render: out of memory");
+    volume_histogram_compute(&sc->volume, h);
+    pp5_status_t st = classify_tf_auto(h, &job->tf, &job->tf_auto);
+    free(h);
+    if (st != PP5_OK)
+        return pp5_fail(st, "%s: %s", sc->volume.source, pp5_error_text());
+    job->tf_origin = RENDER_TF_AUTO;
+    return PP5_OK;
+}
+
+void render_job_print_tf(const render_job_t *job, FILE *log)
+{
+    if (job->tf_origin != RENDER_TF_AUTO) {
+        fprintf(log, "transfer function: %s (%s)\n", job->tf.name,
+                job->tf_origin == RENDER_TF_CHOSEN ? "--tf" : "the data set's preset");
+        return;
+    }
+    char how[512];
+    classify_auto_describe(&job->tf_auto, how, sizeof how);
+    fprintf(log, "transfer function: automatic, %s; save it with --tf-out FILE, edit it and give "
+            "it back with --tf FILE:\n", how);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&text, &len);
+    if (m) {
+        classify_tf_write_text(m, &job->tf, NULL);
+        fclose(m);
+        for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n"))
+            fprintf(log, "    %s\n", line);
+    }
+    free(text);
+}
+
 pp5_status_t render_job_resolve(render_job_t *job, const scene_t *sc, const render_choices_t *ch)
 {
     memset(job, 0, sizeof *job);
     job->volume = &sc->volume;
     job->volume_name = sc->volume.source;
-    job->tf = ch->have_tf ? ch->tf : sc->tf;
+    pp5_status_t st = resolve_tf(job, sc, ch);
+    if (st != PP5_OK)
+        return st;
     job->shade = ch->shade;
     render_settings_t *s = &job->settings;
     *s = ch->settings;

@@ -18,6 +18,8 @@ typedef struct {
     float window_centre, window_width;
     char name[64];                            /* "mrbrain", "cthead", "phantom shepp-logan" */
     bool fell_back;                           /* the data was absent: phantom used instead */
+    bool tf_from_data;                        /* a file: the default transfer function is
+                                                 chosen from its histogram (classify_auto.h) */
     char note[4400];                          /* why, when fell_back */
 } scene_t;
 

@@ -12,9 +12,11 @@
  * without its row, or a span whose operations change with the data, fails
  * here; so does a row that no kernel ran. */
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "firmware/gp/vr_blend_kernels.h"
 #include "firmware/gp/vr_slab_kernels.h"
 #include "firmware/gp/vr_image_kernels.h"
 #include "firmware/gp/vr_setup_kernels.h"
@@ -71,8 +73,9 @@ typedef struct {
     vr_state_t *st;
 } sess_t;
 
-static void sess_open(sess_t *x, shade_case_t lighting, projection_t proj, bool level_tables,
-                      int split, fw_division_t division)
+/* blend: NULL for compositing, else MIP, DEMIP or MIDA with these settings. */
+static void sess_open_blend(sess_t *x, shade_case_t lighting, projection_t proj, bool level_tables,
+                            int split, fw_division_t division, const blend_settings_t *blend)
 {
     memset(x, 0, sizeof *x);
     REQUIRE(phantom_make("shepp-logan", 40, 40, 36, &x->v) == PP5_OK);
@@ -92,6 +95,8 @@ static void sess_open(sess_t *x, shade_case_t lighting, projection_t proj, bool 
     rs.view.rot_y_deg = 30.0f;
     rs.view.projection = proj;
     rs.level_tables = level_tables;
+    if (blend)
+        rs.blend = *blend;
     pp5_params_t p;
     pp5_params_default(&p);
     p.n_gp = 4;
@@ -110,6 +115,12 @@ static void sess_open(sess_t *x, shade_case_t lighting, projection_t proj, bool 
     x->gp = &x->s.m.gp[x->g];
     x->st = fw_state(x->gp);
     REQUIRE(x->st != NULL);
+}
+
+static void sess_open(sess_t *x, shade_case_t lighting, projection_t proj, bool level_tables,
+                      int split, fw_division_t division)
+{
+    sess_open_blend(x, lighting, proj, level_tables, split, division, NULL);
 }
 
 static void sess_close(sess_t *x)
@@ -413,6 +424,142 @@ static void run_slabs(sess_t *x, tally_t *t)
     fw_free(x->gp, bits);
 }
 
+/* ---- blends ---- */
+
+/* Every texel ray of the band under the session's blend, then under the
+ * variants that only the ray's last part reads (the state's settings
+ * turned for the run): the other reading, depth and sphere weight, and
+ * DEMIP on a MIP or MIDA session's units. */
+static void run_blend_rays(sess_t *x, tally_t *t)
+{
+    vr_state_t *s = x->st;
+    vr_config_t keep = s->cfg;
+    fw_ops_t mops = {0};
+    const vr_mem_t mem = {x->gp, &mops};
+    uint64_t skipped = 0;
+    vr_blend_tally_t bt = {0};
+    int rays = 0;
+    /* blend, reading, depth, sphere on, a window four times narrower (the
+     * skull saturates: ray 1 and MIDA stop early) */
+    const int variants[6][5] = {
+        {-1, -1, -1, -1, 0},
+        {VR_BLEND_DEMIP, VR_READING_B, VR_DEPTH_EXACT, 0, 0},
+        {VR_BLEND_DEMIP, VR_READING_A, VR_DEPTH_ENTRY_PLUS_LENGTH, 1, 0},
+        {VR_BLEND_MIDA, -1, -1, -1, 0},
+        {VR_BLEND_DEMIP, VR_READING_B, VR_DEPTH_EXACT, 1, 1},
+        {VR_BLEND_MIDA, -1, -1, -1, 1},
+    };
+    for (int v = 0; v < 6; v++) {
+        const int *w = variants[v];
+        if (w[4])
+            s->cfg.window_inv_width *= 4.0f;
+        if (w[0] >= 0)
+            s->cfg.blend = w[0];
+        if (w[1] >= 0)
+            s->cfg.reading = w[1];
+        if (w[2] >= 0)
+            s->cfg.depth = w[2];
+        if (w[3] >= 0)
+            s->cfg.sw = w[3] ? 0.3f : 0.0f;
+        for (int m = 0; m < s->levels2d; m++) {
+            vr_ray_consts_t rc;
+            vr_ray_consts(s, m, &rc);
+            for (int j = s->jlo[m]; j <= s->jhi[m]; j++)
+                for (int i = 0; i < s->tw[m]; i++) {
+                    vr_ray_slot_t slot = {m, (size_t)(j - s->jlo[m]) * s->tw[m] + (size_t)i};
+                    vr_blend_trace(s, &rc, (float)(i << m) + 0.5f, (float)(j << m) + 0.5f, slot,
+                                   &mem, &t->sp, &t->cnt, &skipped, &bt);
+                    rays++;
+                }
+            vr_ray_slot_t slot = {m, 0};
+            vr_blend_trace(s, &rc, -500.0f, -500.0f, slot, &mem, &t->sp, &t->cnt, &skipped, &bt);
+        }
+        s->cfg = keep;
+    }
+    CHECK(rays > 400);
+    CHECK(bt.ray2_samples > 0);
+    CHECK(bt.occluded > 0);
+    CHECK(bt.saturated > 0);
+    CHECK(bt.terminated > 0);
+    CHECK(mops.dcache_hits + mops.dcache_misses > 0);
+}
+
+/* The value pyramid's build kernels on the GP's slab: every level-0 value
+ * and its word, the max reduction over them (an odd level included). */
+static void run_blend_setup(sess_t *x, tally_t *t)
+{
+    vr_state_t *s = x->st;
+    const vr_config_t *c = &s->cfg;
+    size_t plane = (size_t)c->nx * c->ny, slices = (size_t)(c->data_z1 - c->data_z0);
+    float *slab = fw_alloc(x->gp, plane * slices * sizeof(float));
+    REQUIRE(slab != NULL);
+    memcpy(slab, x->v.data + plane * (size_t)c->data_z0, plane * slices * sizeof(float));
+    s->slab = slab;
+    int z0 = c->data_z0, z1 = c->data_z1;
+    size_t vox = plane * (size_t)(z1 - z0);
+    float *o = fw_alloc(x->gp, vox * sizeof(float));
+    uint32_t *qa = fw_alloc(x->gp, vox * 4);
+    REQUIRE(o && qa);
+    fw_ops_t mops = {0};
+    const vr_mem_t mem = {x->gp, &mops};
+    size_t warm = 0;
+    for (int z = z0; z < z1; z++)
+        for (int y = 0; y < c->ny; y++)
+            for (int vx = 0; vx < c->nx; vx++) {
+                size_t i = ((size_t)(z - z0) * c->ny + y) * c->nx + vx;
+                vr_value_voxel(s, vx, y, z, o + i, &mem, &t->sp, &t->cnt);
+                warm += vr_value_word(s, o + i, &qa[i], &t->sp, &t->cnt);
+                CHECK(memcmp(&qa[i], o + i, 4) == 0);
+            }
+    CHECK(warm > 0);
+    /* cold voxels too, where the session skips (parallel projection) */
+    CHECK(isinf(c->cold_below) || warm < vox);
+    CHECK(mops.dcache_misses > 0);
+    float out;
+    for (int z = 0; z < (z1 - z0) / 2; z++)
+        for (int y = 0; y < c->ny / 2; y++)
+            for (int vx = 0; vx < c->nx / 2; vx++)
+                vr_max_voxel(o, c->nx, c->ny, z1 - z0, 0, 0, c->ny, vx, y, z, &out, &t->sp, &t->cnt);
+    for (int z = 0; z < 2; z++)
+        for (int y = 0; y < 3; y++)
+            for (int vx = 0; vx < 3; vx++)
+                vr_max_voxel(o, 5, 5, 3, 0, 0, c->ny, vx, y, z, &out, &t->sp, &t->cnt);
+    fw_free(x->gp, o);
+    fw_free(x->gp, qa);
+    fw_free(x->gp, slab);
+    s->slab = NULL;
+}
+
+static void run_blend_session(blend_mode_t mode, projection_t proj, const char *where,
+                              tally_t *all)
+{
+    blend_settings_t b;
+    blend_settings_defaults(&b);
+    b.mode = mode;
+    /* The phantom is 0..200: brain 40 and below cold (skipped), the skull
+     * (200) saturating where a sample is near its voxels, partial volumes
+     * below: reading B meets the front skull as an occluder of the back. */
+    b.window_centre = 115.0f;
+    b.window_width = 150.0f;
+    b.tolerance = 0.1f;
+    b.reading = DEMIP_READING_B;
+    sess_t x;
+    sess_open_blend(&x, SHADE_DIFFUSE_FIXED_LIGHT, proj, true, VR_SPLIT_PP, FW_DIVISION_RESIDENT,
+                    &b);
+    tally_t *t = calloc(1, sizeof *t);
+    REQUIRE(t != NULL);
+    band_arrays(&x, true);
+    run_blend_rays(&x, t);
+    band_arrays(&x, false);
+    run_blend_setup(&x, t);
+    CHECK_MSG(!x.gp->fw_error, "%s: %s", where, x.gp->error);
+    check_tally(t, where);
+    for (int i = 0; i < VR_ROW_COUNT; i++)
+        all->sp.n[i] += t->sp.n[i];
+    free(t);
+    sess_close(&x);
+}
+
 static void run_slab_session(tally_t *all)
 {
     sess_t x;
@@ -464,6 +611,10 @@ TEST(fw_cost_every_row_equals_its_kernel_on_real_data)
     run_session(SHADE_DIFFUSE_FIXED_LIGHT, PROJECTION_PERSPECTIVE, false, VR_SPLIT_PP,
                 "diffuse, perspective, 2DLevel exact", &all);
     run_slab_session(&all);
+    /* Blends: DEMIP parallel (cold cells skipped), MIDA perspective (two 3D
+     * levels per sample, no skipping). */
+    run_blend_session(BLEND_DEMIP, PROJECTION_PARALLEL, "DEMIP, parallel", &all);
+    run_blend_session(BLEND_MIDA, PROJECTION_PERSPECTIVE, "MIDA, perspective", &all);
     /* Every row was checked somewhere (a row no kernel runs is dead). */
     const vr_cost_entry_t *table = vr_cost_table();
     for (int i = 0; i < VR_ROW_COUNT; i++)

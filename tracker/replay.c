@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "angles.h"
+#include "progress.h"
 
 pp5_status_t replay_constant_cost(void *ctx, double gaze_x, double gaze_y,
                                   replay_frame_cost_t *out)
@@ -451,6 +452,8 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
     if (st != PP5_OK)
         return st;
     double start = L.s[0].t_s + p->tracker_latency_s;
+    progress_t pr;   /* on a terminal: the trace's time replayed, per mille */
+    progress_begin(&pr, "replay", 1000);
     while (st == PP5_OK && !(p->max_frames && out->count >= p->max_frames)) {
         replay_frame_t f;
         const image8_t *image = NULL;
@@ -463,7 +466,10 @@ pp5_status_t replay_run(const trace_t *trace, const replay_params_t *p, replay_f
         if ((st = push_frame(out, &f)) != PP5_OK)
             break;
         start = f.end_s;
+        progress_set(&pr, (int)(1000 * (start - L.s[0].t_s) / fmax(L.t_end - L.s[0].t_s, 1e-9)),
+                     "of the trace's time");
     }
+    progress_end(&pr);
     if (st == PP5_OK && out->count == 0)
         st = pp5_fail(PP5_E_RANGE, "the trace (%.3f s) is shorter than one frame plus the latency",
                       L.t_end - L.s[0].t_s);

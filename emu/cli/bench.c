@@ -31,7 +31,9 @@ static int cmd_bench(int argc, char **argv)
                    "  --peers  also run comparisons against other renderers (VTK, VolPack),\n"
                    "           installing them if needed (root)\n"
                    "  --quick  smaller problem sizes\n"
-                   "  --list   list the benchmarks and exit\n");
+                   "  --list   list the benchmarks and exit\n\n"
+                   "Example:\n"
+                   "  pp5 bench --quick render     the native renderer's figures, small sizes\n");
             return 0;
         default:
             return 2;

@@ -125,7 +125,7 @@ static pp5_status_t scaling_plot(const scaling_t *sc, const int sides[2], const 
         plot_set_style(&p, i, PLOT_LINE_POINTS);
     if (st == PP5_OK && (mkdir("build", 0777) == 0 || errno == EEXIST) &&
         (mkdir("build/bench", 0777) == 0 || errno == EEXIST))
-        st = plot_write_png(&p, path, 900, 520);
+        st = plot_write(&p, path, 900, 520);
     plot_free(&p);
     return st;
 }

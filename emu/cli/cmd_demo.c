@@ -115,7 +115,9 @@ static int cmd_demo(int argc, char **argv)
                    "gaze-directed renders of a head phantom, the same frame on the emulated\n"
                    "Pixel-Planes 5 with its frame time and ring traffic, and a synthetic gaze\n"
                    "trace replayed through the machine. Pictures and reports go to DIR\n"
-                   "(default build/demo/).\n");
+                   "(default build/demo/).\n\n"
+                   "Example:\n"
+                   "  pp5 demo --out-dir /tmp/tour   then open /tmp/tour/*.png\n");
             return 0;
         default:
             return 2;

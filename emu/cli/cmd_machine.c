@@ -18,7 +18,9 @@ static void machine_usage(FILE *out)
             "sensitivity study varies), then the derived ring bandwidth.\n\n"
             PP5_PARAMS_CLI_HELP
             "  --dump-config     print the parameters as a file that --config can load\n"
-            "  --help            this text\n");
+            "  --help            this text\n\n"
+            "Example:\n"
+            "  pp5 machine --preset gaze1990-literal --set ring.channels=4\n");
 }
 
 static int cmd_machine(int argc, char **argv)

@@ -110,7 +110,9 @@ static int cmd_pp_isa(int argc, char **argv)
                    "Prints the renderer's PP instruction table (emu/pp_isa.def) as a Markdown\n"
                    "table: opcode, class, words, fields, compute-cycle formula, certainty tag\n"
                    "and semantics.  Word formats: emu/pp_isa.h; prose: emu/PP_ISA.md.\n"
-                   "In the formulas PASS(k) = k * pp.cycles_per_bit + pp.alu_overhead_cycles.\n");
+                   "In the formulas PASS(k) = k * pp.cycles_per_bit + pp.alu_overhead_cycles.\n\n"
+                   "Example:\n"
+                   "  pp5 pp-isa > pp-isa.md\n");
             return 0;
         }
         fprintf(stderr, "pp5 pp-isa: unknown option (try --help)\n");

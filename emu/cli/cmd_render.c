@@ -6,6 +6,8 @@
 
 #include "cliopt.h"
 #include "outfile.h"
+#include "plot.h"
+#include "render/classify_io.h"
 #include "registry.h"
 #include "render_cmd.h"
 
@@ -25,7 +27,11 @@ static void render_usage(void)
            "    --spacing SX,SY,SZ --header-bytes N   (raw; a name like\n"
            "                        x_256x256x113_u16be.raw.gz is understood)\n"
            "Classification and shading:\n"
-           "  --tf PRESET           %s\n"
+           "  --tf PRESET|FILE      a preset (%s)\n"
+           "                        or a file: pp5's text format or a ParaView preset (.json);\n"
+           "                        see man pp5.  Default: the data set's preset;\n"
+           "                        for a --volume file, one chosen from its histogram\n"
+           "  --tf-out FILE         write the transfer function used, in the text format\n"
            "  --lighting CASE       diffuse (default) | specular | moving (paper §5)\n"
            "  --specular KS         specular coefficient (with specular/moving)\n"
            "View:\n"
@@ -65,7 +71,7 @@ static void render_usage(void)
            "  --compare             also render full resolution: PSNR and acuity-weighted\n"
            "                        error in the report and on stdout\n"
            "  --mip-levels-out P    the populated 2D mip-map levels as P<level>.png (fig. 6)\n"
-           "  --fig5 FILE.png       sweet-spot structure plot (fig. 5)\n"
+           "  --fig5 FILE           sweet-spot structure plot (fig. 5): .png, .svg or .pdf\n"
            "  --threads N           host threads (0 = all; output is identical for any N)\n"
            "Machine (emulated Pixel-Planes 5, firmware/):\n"
            "  --machine             render on the emulated machine (GPs + renderers + ring);\n"
@@ -82,7 +88,10 @@ static void render_usage(void)
            "Examples:\n"
            "  pp5 render --phantom shepp-logan --mode gaze --gaze 300,200 --out g.png\n"
            "  pp5 render --dataset cthead --voxel-format u8 --mode full --out u8.png\n"
+           "  pp5 render --volume skull_64x64x64_f32le.raw --out s.png --tf-out skull.tf\n"
            "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n"
+           "  pp5 render --machine --phantom shepp-logan --blend demip --sphere-weight 0.3 --out d.png\n"
+           "  (--machine casts every --blend; MIP, DEMIP and MIDA in image-bands or resident)\n"
            "  pp5 render --scene gen:spheres100k --shading phong --mode gaze --gaze 200,300 \\\n"
            "      --compare --size 640x480 --out s.png --report s.json\n",
            phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
@@ -95,8 +104,8 @@ enum {
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
     OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_MACHINE, OPT_DIVISION, OPT_SPLIT, OPT_FRAMES,
-    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET, OPT_VOXEL_FORMAT, OPT_MESH, OPT_SCENE,
-    OPT_SHADING,
+    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET, OPT_VOXEL_FORMAT, OPT_TF_OUT, OPT_MESH,
+    OPT_SCENE, OPT_SHADING,
     OPT_BLEND   /* OPT_BLEND + i: blend_options[i] */
 };
 
@@ -117,6 +126,7 @@ static const struct option longopts[] = {
     {"spacing", required_argument, NULL, OPT_SPACING},
     {"header-bytes", required_argument, NULL, OPT_HEADER_BYTES},
     {"tf", required_argument, NULL, OPT_TF},
+    {"tf-out", required_argument, NULL, OPT_TF_OUT},
     {"lighting", required_argument, NULL, OPT_LIGHTING},
     {"specular", required_argument, NULL, OPT_SPECULAR},
     {"size", required_argument, NULL, OPT_SIZE},
@@ -244,7 +254,8 @@ static pp5_status_t parse_shading(render_cmd_t *c, int opt, const char *a)
     int i = 0;
     pp5_status_t st = PP5_OK;
     switch (opt) {
-    case OPT_TF: st = classify_preset(a, &ch->tf); ch->have_tf = true; break;
+    case OPT_TF: st = render_choices_set_tf(ch, a); break;
+    case OPT_TF_OUT: c->tf_out = a; break;
     case OPT_LIGHTING:
         if ((st = one_of("--lighting", a, lightings, 3, &i)) == PP5_OK)
             ch->shade.lighting = cases[i];
@@ -344,7 +355,11 @@ static pp5_status_t parse_output(render_cmd_t *c, int opt, const char *a)
     case OPT_REPORT: c->report_json = a; break;
     case OPT_COMPARE: c->compare = true; break;
     case OPT_LEVELS_OUT: c->levels_prefix = a; break;
-    case OPT_FIG5: c->fig5_png = a; break;
+    case OPT_FIG5: {
+        plot_format_t fmt;
+        c->fig5_png = a;
+        return plot_format_from_name(a, &fmt);   /* refused before any rendering */
+    }
     default: return NOT_MINE;
     }
     return PP5_OK;
@@ -413,7 +428,13 @@ void render_cmd_defaults(render_cmd_t *c)
     c->shading = RASTER_GOURAUD;
 }
 
-static pp5_status_t parse_option(render_cmd_t *c, int opt, const char *arg)
+const struct option *render_cmd_options(int *count)
+{
+    *count = (int)(sizeof longopts / sizeof longopts[0]) - 1;
+    return longopts;
+}
+
+pp5_status_t render_cmd_option(render_cmd_t *c, int opt, const char *arg)
 {
     pp5_status_t (*const groups[])(render_cmd_t *, int, const char *) = {
         parse_input, parse_shading, parse_view, parse_gaze, parse_output, parse_machine,
@@ -434,7 +455,8 @@ static pp5_status_t render_run(render_cmd_t *c)
         return render_mesh_run(c, stdout);
     /* A bad output path is reported before the volume is loaded and rendered. */
     pp5_status_t st = outpath_check_all("--out", c->out_png, "--report", c->report_json, "--fig5",
-                                        c->fig5_png, "--timeline", c->timeline, NULL);
+                                        c->fig5_png, "--timeline", c->timeline, "--tf-out",
+                                        c->tf_out, NULL);
     if (st != PP5_OK)
         return st;
     scene_t sc;
@@ -443,14 +465,23 @@ static pp5_status_t render_run(render_cmd_t *c)
         return st;
     render_job_t job;
     st = render_job_resolve(&job, &sc, &c->choices);
-    /* The firmware casts compositing rays only, so far. */
-    if (st == PP5_OK && c->machine && job.settings.blend.mode != BLEND_COMPOSITE)
-        st = pp5_fail(PP5_E_CONFIG, "--machine renders --blend composite only; MIP, DEMIP and "
-                      "MIDA run natively (drop --machine)");
     if (st == PP5_OK && c->machine && job.settings.voxel_format != MIP3D_F32)
         st = pp5_fail(PP5_E_CONFIG, "--voxel-format %s is a native option; the machine keeps "
                       "its own RGBA8 voxels (drop --machine or --voxel-format)",
                       mip3d_format_name(job.settings.voxel_format));
+    if (st == PP5_OK) {
+        if (c->choices.tf_note[0])
+            printf("note: --tf: %s\n", c->choices.tf_note);
+        render_job_print_tf(&job, stdout);
+    }
+    if (st == PP5_OK && c->tf_out) {
+        char header[700];
+        snprintf(header, sizeof header, "transfer function of %s, written by pp5 render --tf-out",
+                 sc.volume.source);
+        st = classify_tf_save(c->tf_out, &job.tf, header);
+        if (st == PP5_OK)
+            printf("wrote %s (give it back with --tf %s)\n", c->tf_out, c->tf_out);
+    }
     if (st == PP5_OK)
         st = c->machine ? render_machine_run(c, &job, stdout) : render_native_run(c, &job, &sc, stdout);
     scene_free(&sc);
@@ -473,7 +504,7 @@ static int render_main(int argc, char **argv)
         }
         if (opt == '?')
             return 2;
-        st = parse_option(&c, opt, optarg);
+        st = render_cmd_option(&c, opt, optarg);
     }
     if (st == PP5_OK && optind < argc)
         st = pp5_fail(PP5_E_CONFIG, "unexpected argument '%s' (see --help)", argv[optind]);

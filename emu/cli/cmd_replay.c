@@ -58,7 +58,7 @@ static void usage(FILE *out)
         "  --max-frames N           stop after N frames\n"
         "  --report FILE.json       summary and parameters\n"
         "  --csv FILE.csv           one line per frame\n"
-        "  --plot FILE.png          error and frame time over the trace\n"
+        "  --plot FILE.png|.svg|.pdf  error and frame time over the trace\n"
         "  --live DEVICE            record live gaze from DEVICE (as `pp5 track record --device`:\n"
         "                           hid, hid:/dev/hidrawN, polhemus, polhemus:BUS:ADDR) for\n"
         "                           --seconds S (default 10), keep it in /tmp, then replay it\n"
@@ -213,7 +213,7 @@ static pp5_status_t write_plot(const char *path, const replay_result_t *r)
     if (st == PP5_OK)
         st = plot_add_series(&p, "frame time (ms / 10)", x, ft, m);
     if (st == PP5_OK)
-        st = plot_write_png(&p, path, 900, 450);
+        st = plot_write(&p, path, 900, 450);
     plot_free(&p);
     free(x);
     return st;
@@ -352,7 +352,11 @@ pp5_status_t replay_cli_option(int c, const char *arg, replay_cli_t *o, bool *do
     case 'e': o->resume = true; return PP5_OK;
     case 'a': o->accounting = arg; return PP5_OK;
     case 'k': return workunit_parse_shard(arg, &o->shard_k, &o->shard_n);
-    case 'P': o->plot = arg; return PP5_OK;
+    case 'P': {
+        plot_format_t fmt;
+        o->plot = arg;
+        return plot_format_from_name(arg, &fmt);   /* refused before the replay runs */
+    }
     case 'h':
         if (o->in_list)
             return pp5_fail(PP5_E_CONFIG, "--help has no place in a list");

@@ -277,7 +277,7 @@ pp5_status_t sweep_write_plot(const sweep_t *sw, double *xs, double *ph, char (*
         st = plot_add_stacked(&pl, fw_phase_name((fw_phase_t)k), xs, ph + (size_t)k * sw->points,
                               sw->points);
     if (st == PP5_OK)
-        st = plot_write_png(&pl, sw->out_png, 1100, 640);
+        st = plot_write(&pl, sw->out_png, 1100, 640);
     plot_free(&pl);
     return st;
 }

@@ -26,7 +26,9 @@ static void tp_usage(FILE *out)
             "  --timeline FILE.json write a Chrome trace-event timeline (open in ui.perfetto.dev)\n"
             "  --frames N           render N frames (default 1); the report lists each\n"
             PP5_PARAMS_CLI_HELP
-            "  --help               this text\n");
+            "  --help               this text\n\n"
+            "Example:\n"
+            "  pp5 test-pattern --out p.png --report r.json --set ring.channels=4\n");
 }
 
 /* The figures a reader checks against the hand calculation (README). */

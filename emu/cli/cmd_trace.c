@@ -282,7 +282,9 @@ static int cmd_trace(int argc, char **argv)
                 "  synth    generate a synthetic gaze trace (pursuit, saccades, mixed)\n"
                 "  import   convert EyeLink ASC, Tobii TSV, Pupil Labs CSV or gaze-trace v1\n"
                 "  info     describe a pp5 trace file, its data quality and events\n"
-                "  events   detect fixations, saccades, PSOs, blinks; write events.tsv\n");
+                "  events   detect fixations, saccades, PSOs, blinks; write events.tsv\n\n"
+                "Example:\n"
+                "  pp5 trace synth --mode saccades --seconds 10 --out s.trace && pp5 trace info s.trace\n");
         return argc < 2 ? 2 : 0;
     }
     if (strcmp(argv[1], "synth") == 0)

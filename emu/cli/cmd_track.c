@@ -73,6 +73,9 @@ static void track_usage(FILE *f)
 "ff21): Polhemus' own udev rules load the firmware with fxload; `pp5 track\n"
 "list` shows such devices as \"firmware not loaded\".\n"
 "\n"
+"Example:\n"
+"  pp5 track list && pp5 track record --device hid --seconds 30 --out live.trace\n"
+"\n"
 "pp5 built %s hidapi and %s libusb.\n",
 #if PP5_HAVE_HIDAPI
             "with",

@@ -3,12 +3,16 @@
  * FILE` (write a procedural phantom for other tools). */
 #include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cliopt.h"
 #include "outfile.h"
 #include "registry.h"
+#include "render/classify_auto.h"
+#include "render/classify_io.h"
 #include "render/volume.h"
+#include "render/volume_histogram.h"
 
 static void usage(void)
 {
@@ -16,7 +20,10 @@ static void usage(void)
            "                            [--spacing SX,SY,SZ] [--header-bytes N]\n"
            "       pp5 volume phantom NAME [--size NXxNYxNZ] --out FILE.nrrd|FILE.raw\n\n"
            "info: loads FILE and prints its dimensions, stored voxel type, spacing, value\n"
-           "  range, mean and the FNV-1a hash of the float voxels (the hash reports use).\n"
+           "  range, mean and the FNV-1a hash of the float voxels (the hash reports use),\n"
+           "  then its histogram: percentiles, the background (the peak of air or padding\n"
+           "  at the low end), the other voxels' values, and the transfer function that\n"
+           "  `pp5 render --volume FILE` chooses from them (render/classify_auto.h).\n"
            "  Formats: .nrrd/.nhdr (Teem), .nii/.nii.gz (niftilib), .den (VolPack), a\n"
            "  Stanford slice series given as NAME.1 or NAME (16-bit big-endian square\n"
            "  slices unless --dims/--type say otherwise), raw files whose name states\n"
@@ -48,6 +55,28 @@ static void print_volume(const volume_t *v, const volume_file_info_t *info)
     printf("spacing:  %g %g %g\n", v->spacing[0], v->spacing[1], v->spacing[2]);
     printf("range:    %g .. %g (mean %.4g)\n", v->min_value, v->max_value, n ? sum / n : 0.0);
     printf("hash:     %016llx (FNV-1a 64 of the float voxels)\n", (unsigned long long)v->hash);
+}
+
+/* The histogram summary and the default transfer function it gives. */
+static void print_histogram(const volume_t *v)
+{
+    volume_histogram_t *h = malloc(sizeof *h);
+    if (!h) {
+        printf("histogram: out of memory\n");
+        return;
+    }
+    volume_histogram_compute(v, h);
+    printf("histogram:\n");
+    volume_histogram_print(h, "  ", stdout);
+    classify_tf_t tf;
+    classify_auto_info_t ai;
+    if (classify_tf_auto(h, &tf, &ai) == PP5_OK) {
+        printf("default transfer function (pp5 render --volume; --tf-out FILE saves it):\n");
+        classify_tf_write_text(stdout, &tf, NULL);
+    } else {
+        printf("default transfer function: none (%s)\n", pp5_error_text());
+    }
+    free(h);
 }
 
 static int cmd_info(int argc, char **argv)
@@ -126,6 +155,7 @@ static int cmd_info(int argc, char **argv)
     if (st != PP5_OK)
         return cliopt_report("volume info", st);
     print_volume(&v, &info);
+    print_histogram(&v);
     volume_free(&v);
     return 0;
 }

@@ -1,6 +1,7 @@
 /* main.c: the `pp5` program: git-style dispatch to the subcommands that the
  * modules register with PP5_COMMAND (see emu/util/registry.h). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "input_limits.h"
@@ -14,7 +15,8 @@ static void print_usage(FILE *out)
     const pp5_command_t *cmds = pp5_commands(&n);
     fprintf(out,
             "pp5 %s: a Pixel-Planes 5 emulator and its gaze-directed volume renderer\n\n"
-            "usage: pp5 COMMAND [options]      (pp5 COMMAND --help for a command's options)\n\n"
+            "usage: pp5 COMMAND [options]      (pp5 COMMAND --help for a command's options)\n"
+            "       --quiet anywhere: no progress lines (they appear only on a terminal)\n\n"
             "built with: %s\n\n"
             "commands:\n",
             pp5_version, pp5_features);
@@ -31,8 +33,24 @@ static void print_usage(FILE *out)
     }
 }
 
+/* --quiet anywhere on the line silences the progress lines of every command
+ * (emu/util/progress.h reads PP5_QUIET); it is taken out before dispatch. */
+static int take_quiet(int argc, char **argv)
+{
+    int k = 1;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--quiet") == 0)
+            setenv("PP5_QUIET", "1", 1);
+        else
+            argv[k++] = argv[i];
+    }
+    argv[k] = NULL;
+    return k;
+}
+
 int main(int argc, char **argv)
 {
+    argc = take_quiet(argc, argv);
     if (argc < 2) {
         print_usage(stderr);
         return PP5_EXIT_USAGE;

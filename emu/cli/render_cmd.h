@@ -18,7 +18,7 @@
 typedef struct {
     render_input_t input;
     render_choices_t choices;
-    const char *out_png, *report_json, *levels_prefix, *fig5_png;
+    const char *out_png, *report_json, *levels_prefix, *fig5_png, *tf_out;
     bool compare;
     /* The machine back end (--machine). */
     bool machine;
@@ -32,6 +32,11 @@ typedef struct {
 } render_cmd_t;
 
 void render_cmd_defaults(render_cmd_t *c);
+/* pp5 render's options (getopt_long table, without the terminating entry)
+ * and their parser, shared with pp5 view. */
+struct option;
+const struct option *render_cmd_options(int *count);
+pp5_status_t render_cmd_option(render_cmd_t *c, int opt, const char *arg);
 /* The native renderer: frames, PNG, figures 5 and 6, --compare, report. */
 pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, const scene_t *sc,
                                FILE *log);

@@ -28,6 +28,12 @@ static void print_frame(FILE *log, const fw_frame_result_t *r)
             (unsigned long long)r->ring_bytes[RING_CLASS_PIXELS],
             (unsigned long long)r->ring_bytes[RING_CLASS_GP],
             (unsigned long long)r->ring_bytes[RING_CLASS_HOST], 100.0 * r->ring_util_total);
+    if (r->ray2_samples || r->rays_saturated || r->rays_occluded || r->rays_terminated)
+        fprintf(log, "  blend: DEMIP ray-2 samples %llu (of the samples above), rays saturated "
+                "(ray 1 at material 1) %llu, occluded (reading B) %llu, MIDA rays stopped early "
+                "%llu\n", (unsigned long long)r->ray2_samples,
+                (unsigned long long)r->rays_saturated, (unsigned long long)r->rays_occluded,
+                (unsigned long long)r->rays_terminated);
     fprintf(log, "  GP utilisation mean %.1f %% max %.1f %% (imbalance max/mean %.2f); renderer "
             "mean %.1f %% max %.1f %% (shading exec %llu cycles max)\n",
             100 * r->gp_util_mean, 100 * r->gp_util_max, r->gp_imbalance, 100 * r->rn_util_mean,
@@ -78,13 +84,37 @@ static pp5_status_t native_image(const render_job_t *job, int kind, int frames, 
     pp5_status_t st = kind == 0 ? native_renderer_init(&nr, job->volume, &job->tf, &job->shade,
                                                        job->settings.threads)
                                 : fw_reference_init(&nr, job, kind == 1);
-    if (st != PP5_OK)
+    if (st == PP5_OK && job->settings.blend.mode != BLEND_COMPOSITE)
+        st = native_renderer_build_scalar(&nr, job->volume, job->settings.blend.pyramid);
+    if (st != PP5_OK) {
+        native_renderer_free(&nr);
         return st;
+    }
     for (int f = 0; st == PP5_OK && f < frames; f++) {
         image8_free(out);
         st = native_renderer_frame(&nr, &job->settings, out, stats);
     }
     native_renderer_free(&nr);
+    return st;
+}
+
+/* A blend's image against render/'s: the machine holds the value
+ * pyramid's floats as they are, so render/ itself is like for like. */
+static pp5_status_t compare_blend(const image8_t *img, image8_t *ref, const gaze_model_t *gm,
+                                  double gx, double gy, const render_stats_t *ns,
+                                  fw_compare_t *cmp, FILE *log)
+{
+    quality_t q;
+    pp5_status_t st = quality_compare(img, ref, gm, gx, gy, &q);
+    if (st == PP5_OK) {
+        *cmp = (fw_compare_t){true, q.psnr_db, q.max_abs, q.psnr_db, q.max_abs, ns->rays,
+                              ns->samples};
+        fprintf(log, "vs native renderer (same value pyramid floats: like for like): PSNR %.2f dB, "
+                "max diff %g; native rays %llu samples %llu (its tracer also skips by the "
+                "running maximum)\n", q.psnr_db, q.max_abs, (unsigned long long)ns->rays,
+                (unsigned long long)ns->samples);
+    }
+    image8_free(ref);
     return st;
 }
 
@@ -103,6 +133,8 @@ static pp5_status_t compare(const fw_session_t *s, const render_job_t *job, doub
     quality_t q1, q2, q3, q4;
     double gy = job->settings.gaze_y;
     pp5_status_t st = native_image(&last, 0, frames, &ref, &ns1);
+    if (st == PP5_OK && job->settings.blend.mode != BLEND_COMPOSITE)
+        return compare_blend(img, &ref, &s->gaze, gx, gy, &ns1, cmp, log);
     if (st == PP5_OK)
         st = native_image(&last, 1, frames, &ref_q, &ns2);
     if (st == PP5_OK)

@@ -18,6 +18,7 @@
 #include "render/quality.h"
 #include "render/renderer_native.h"
 #include "render/scene.h"
+#include "reproduce_demip.h"
 
 /* Table 1 of seed 002 (§4): GTX 280, 512x512 viewport, one sample per voxel,
  * frames per second. */
@@ -92,6 +93,7 @@ typedef struct {
 
 typedef struct {
     int size;
+    int machine_size;             /* the emulated machine's image side; 0: not run */
     const char *datasets;
     const pp5_reproduce_opts_t *o;
     const char *out_dir;
@@ -239,8 +241,24 @@ static const char *ratio_cause(ratio_t r, bool above)
                    "saturates";
 }
 
+/* A ratio on the machine: each blend at its best division (NAN when the
+ * machine did not run). */
+static double machine_ratio(const demip_machine_t *mm, ratio_t r, int m)
+{
+    if (!mm)
+        return NAN;
+    double t[DEMIP_MPANELS];
+    for (int p = 0; p < DEMIP_MPANELS; p++)
+        t[p] = demip_machine_ms(mm, demip_machine_best(mm, p, m), p, m);
+    switch (r) {
+    case RATIO_DEMIP_MIP: return t[DEMIP_MPANEL_DEMIP] / t[DEMIP_MPANEL_MIP];
+    case RATIO_DVR_DEMIP: return t[DEMIP_MPANEL_DVR] / t[DEMIP_MPANEL_DEMIP];
+    default: return t[DEMIP_MPANEL_MIDA] / t[DEMIP_MPANEL_DEMIP];
+    }
+}
+
 /* The ratio table, and the causes of any ratio outside the paper's range. */
-static void print_ratios(const panel_run_t runs[PANELS])
+static void print_ratios(const panel_run_t runs[PANELS], const demip_machine_t *mm)
 {
     printf("  %-11s %-18s %12s %12s %14s %14s\n", "cost ratio", "paper (mean)", "native full",
            "native gaze", "machine full", "machine gaze");
@@ -249,12 +267,15 @@ static void print_ratios(const panel_run_t runs[PANELS])
         paper_ratio_range((ratio_t)r, &lo, &hi, &mean);
         char paper[32];
         snprintf(paper, sizeof paper, "%.2f-%.2f (%.2f)", lo, hi, mean);
-        printf("  %-11s %-18s %12.2f %12.2f %14s %14s\n", ratio_names[r], paper,
-               our_ratio(runs, (ratio_t)r, 0), our_ratio(runs, (ratio_t)r, 1), "[pending]",
-               "[pending]");
+        printf("  %-11s %-18s %12.2f %12.2f %14.2f %14.2f\n", ratio_names[r], paper,
+               our_ratio(runs, (ratio_t)r, 0), our_ratio(runs, (ratio_t)r, 1),
+               machine_ratio(mm, (ratio_t)r, 0), machine_ratio(mm, (ratio_t)r, 1));
     }
-    printf("  [pending]: the machine columns wait for firmware MIP/DEMIP/MIDA (issue 11,\n"
-           "  item 3); they will come from the same frames on the emulated Pixel-Planes 5.\n");
+    if (mm)
+        printf("  machine: emulated frame times at %dx%d, each blend under its best division "
+               "(table below).\n", mm->size, mm->size);
+    else
+        printf("  machine columns: nan, the machine was not run (--machine-size 0).\n");
     printf("  where we differ:\n");
     for (int r = 0; r < RATIO_COUNT; r++) {
         double lo, hi, mean, x = our_ratio(runs, (ratio_t)r, 0);
@@ -427,10 +448,15 @@ static pp5_status_t demip_measure(native_renderer_t *r, const scene_t *sc, const
     panel_run_t runs[PANELS];
     memset(runs, 0, sizeof runs);
     pp5_status_t st = run_panels(r, &base, d->o->repeats, tag, runs);
+    static demip_machine_t mm;
+    if (st == PP5_OK && d->machine_size > 0)
+        st = demip_machine_measure(sc, &base, d->machine_size, r, tag, &mm);
     char path[1200];
     if (st == PP5_OK) {
         print_timings(runs, sc->tf.name);
-        print_ratios(runs);
+        print_ratios(runs, d->machine_size > 0 ? &mm : NULL);
+        if (d->machine_size > 0)
+            demip_machine_print(&mm);
         const image8_t *imgs[PANELS];
         for (int p = 0; p < PANELS; p++)
             imgs[p] = &runs[p].image[0];
@@ -510,8 +536,11 @@ static void demip_usage(void)
            "with a comparison image, the eps sweep and the max/box pyramid comparison.\n"
            "  --size N          image side (default 512, the paper's viewport)\n"
            "  --datasets LIST   comma-separated (default cthead,mrbrain; phantom names work)\n"
+           "  --machine-size N  the emulated machine's image side (default 256: its frames\n"
+           "                    are emulated sample by sample; 0 skips the machine)\n"
            "Images go to --out-dir (default build/reproduce-demip).\n"
-           "Example: pp5 reproduce demip --threads 2 --repeats 3 --out-dir demip\n");
+           "Example: pp5 reproduce demip --threads 2 --repeats 3 --out-dir demip\n"
+           "         pp5 reproduce demip --datasets shepp-logan --size 64 --machine-size 32\n");
 }
 
 static pp5_status_t parse_demip_options(const pp5_reproduce_opts_t *o, demip_opts_t *d, bool *help)
@@ -519,6 +548,7 @@ static pp5_status_t parse_demip_options(const pp5_reproduce_opts_t *o, demip_opt
     static const struct option longopts[] = {
         {"size", required_argument, NULL, 's'},
         {"datasets", required_argument, NULL, 'd'},
+        {"machine-size", required_argument, NULL, 'm'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -533,6 +563,9 @@ static pp5_status_t parse_demip_options(const pp5_reproduce_opts_t *o, demip_opt
             d->size = (int)l;
         } else if (c == 'd') {
             d->datasets = optarg;
+        } else if (c == 'm') {
+            st = cliopt_long("--machine-size", optarg, 0, 4096, &l);
+            d->machine_size = (int)l;
         } else if (c == 'h') {
             *help = true;
         } else {
@@ -546,7 +579,7 @@ static pp5_status_t parse_demip_options(const pp5_reproduce_opts_t *o, demip_opt
 
 static int reproduce_demip(const pp5_reproduce_opts_t *o)
 {
-    demip_opts_t d = {512, "cthead,mrbrain", o, o->out_dir};
+    demip_opts_t d = {512, 256, "cthead,mrbrain", o, o->out_dir};
     bool help = false;
     pp5_status_t st = parse_demip_options(o, &d, &help);
     if (st != PP5_OK)

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cliopt.h"
+#include "progress.h"
 #include "registry.h"
 #include "render/renderer_native.h"
 #include "render/scene.h"
@@ -318,12 +319,24 @@ static int reproduce_table1(const reproduce_opts_t *o)
            "diffuse shading with colour and opacity in the 3D mip map, octree skipping on,\n"
            "early ray termination at opacity 0.95, times = median of %d frames.\n",
            TABLE1_SIZE, TABLE1_SIZE, o->repeats);
+    static const struct {
+        const char *dataset;
+        bool resample;
+        const char *what;
+    } runs[] = {{"mrbrain", false, "mrbrain"},
+                {"mrbrain", true, "mrbrain at 256x256x109"},
+                {"cthead", false, "cthead"}};
     bool phantom_done = false;
-    rc = table1_dataset("mrbrain", false, o, &phantom_done);
-    if (rc == 0)
-        rc = table1_dataset("mrbrain", true, o, &phantom_done);
-    if (rc == 0)
-        rc = table1_dataset("cthead", false, o, &phantom_done);
+    rc = 0;
+    progress_t pr;
+    int n = (int)(sizeof runs / sizeof runs[0]);
+    progress_begin(&pr, "table1", n);
+    for (int i = 0; i < n && rc == 0; i++) {
+        rc = table1_dataset(runs[i].dataset, runs[i].resample, o, &phantom_done);
+        fflush(stdout);   /* the table before the progress line that follows it */
+        progress_step(&pr, runs[i].what);
+    }
+    progress_end(&pr);
     return rc;
 }
 

@@ -1,22 +1,28 @@
-/* plot.h: small PNG charts (line plots, stacked bars/areas) with axes, tick
- * labels, titles and a legend, drawn with a built-in bitmap font.
+/* plot.h: charts (line plots, stacked bars/areas) with titles, axis labels
+ * with units, ticks, reference lines and a legend, drawn with cairo in
+ * anti-aliased vector graphics and fontconfig's DejaVu Sans, written as PNG,
+ * SVG or PDF as the output name says.
  *
  * Used for the paper's figure 5 (target and quantized resolution against
  * distance from the gaze point), sweeps of frame time stacked by phase, and
- * gaze-trace replays.  No external plotting tool is needed: the chart is
- * rasterised into an image8_t and written with png_io.
+ * gaze-trace replays.
  *
  *   plot_t p;
- *   plot_init(&p, "Frame time", "GPs", "ms");
+ *   plot_init(&p, "Frame time", "GPs", "frame time (ms)");
  *   plot_add_series(&p, "full", xs, ys, n);
  *   plot_add_series(&p, "gaze", xs, ys2, n);
- *   plot_write_png(&p, "sweep.png", 800, 500);
+ *   plot_write(&p, "sweep.pdf", 800, 500);      (or .png, .svg)
  *   plot_free(&p);
  *
  * Stacked charts: every plot_add_stacked series is drawn on top of the
  * previous stacked ones; all stacked series must share the same x values.
  * Line series and stacked series may be mixed (lines are drawn on top).
- * Rendering is deterministic: the same plot gives bit-identical PNGs. */
+ * Sizes are in pixels for PNG and in points (1/72 inch) for SVG and PDF; the
+ * layout is the same in all three.  plot_render gives the same pixels for
+ * the same plot on one machine (cairo's rasteriser is deterministic); PDF
+ * and SVG files carry no pixels, and a PDF names its creation date, so
+ * determinism tests compare the plotted data (plot_data_to_pixel, rendered
+ * pixels), not file bytes. */
 #ifndef PP5_PLOT_H
 #define PP5_PLOT_H
 
@@ -29,6 +35,8 @@
 #define PLOT_MAX_POINTS 1000000
 #define PLOT_MAX_CATEGORIES 64
 #define PLOT_MAX_REFS 8
+
+typedef enum { PLOT_FORMAT_PNG, PLOT_FORMAT_SVG, PLOT_FORMAT_PDF } plot_format_t;
 
 typedef enum {
     PLOT_LINE,      /* straight segments between points (default for plot_add_series) */
@@ -111,18 +119,28 @@ pp5_status_t plot_set_categories(plot_t *p, const char *const *labels, int n);
  * Errors: size outside 160x120..8192x8192, no series, log axis with y <= 0,
  * stacked series with different x values. */
 pp5_status_t plot_render(const plot_t *p, int width, int height, image8_t *img);
-pp5_status_t plot_write_png(const plot_t *p, const char *path, int width, int height);
+/* The format that `path` names: .png, .svg or .pdf (any case); otherwise
+ * PP5_E_CONFIG with a message naming the path. */
+pp5_status_t plot_format_from_name(const char *path, plot_format_t *fmt);
+/* Writes the chart to `path` in the format its name says.  The file appears
+ * whole or not at all (written beside it, then renamed). */
+pp5_status_t plot_write(const plot_t *p, const char *path, int width, int height);
+
+/* Labels on an 8-bit image (gray or RGB) in the charts' text, a monospaced
+ * face about 6*scale pixels per character and 10*scale pixels high; (x, y)
+ * is the label's top-left corner, and what falls outside the image is
+ * clipped.  plot_text_width gives the label's advance in pixels. */
+void plot_draw_text(image8_t *img, int x, int y, const char *text, int scale, const uint8_t rgb[3]);
+int plot_text_width(const char *text, int scale);
+
+/* Every user of cairo's text calls this first: cairo's and fontconfig's
+ * font caches are then released at exit. */
+void plot_text_setup(void);
 
 /* Where data point (x, y) lands in a width x height rendering: pixel column and
  * row (row 0 at the top), as the renderer computes them.  For tests and for
  * callers that annotate a chart.  False if the plot cannot be laid out. */
 bool plot_data_to_pixel(const plot_t *p, int width, int height, double x, double y,
                         double *px, double *py);
-
-/* The built-in 5x7 bitmap font (ASCII 32..126; other bytes draw as a box),
- * exposed for other modules that label images.  `scale` >= 1 enlarges each
- * font pixel to scale x scale.  Characters advance 6*scale pixels. */
-void plot_draw_text(image8_t *img, int x, int y, const char *text, int scale, const uint8_t rgb[3]);
-int plot_text_width(const char *text, int scale);
 
 #endif

@@ -22,6 +22,13 @@ enum { VR_SPLIT_PP = 0, VR_SPLIT_GP = 1 };   /* where viewpoint-dependent shadin
 enum { VR_MODE_FULL = 0, VR_MODE_GAZE = 1 };
 /* The work divisions (firmware/ARCHITECTURE.md "Work divisions"). */
 enum { VR_DIVISION_IMAGE_BANDS = 0, VR_DIVISION_RESIDENT = 1, VR_DIVISION_OBJECT_SLABS = 2 };
+/* What a ray does with its samples (render/blend.h; firmware/ARCHITECTURE.md
+ * "Blends"): compositing the mip map, or MIP, DEMIP and MIDA on the value
+ * pyramid. */
+enum { VR_BLEND_COMPOSITE = 0, VR_BLEND_MIP = 1, VR_BLEND_DEMIP = 2, VR_BLEND_MIDA = 3 };
+enum { VR_PYRAMID_MAX = 0, VR_PYRAMID_BOX = 1 };          /* how levels 1.. reduce values */
+enum { VR_DEPTH_EXACT = 0, VR_DEPTH_ENTRY_PLUS_LENGTH = 1 }; /* DEMIP's depth (§3.2) */
+enum { VR_READING_A = 0, VR_READING_B = 1 };                /* where eq. (1) applies */
 #define VR_TILES_MAX 8                 /* ray groups per pass (resident) */
 
 /* GP_USER sub-kinds (args[0]). */
@@ -71,6 +78,18 @@ typedef struct {
         g_rho_min, g_r_zero_px, g_r_max_px;
     int32_t g_max_level;
     int32_t fb_x0, fb_y0;               /* where the image lands in the frame buffer */
+    /* Blends (VR_BLEND_*): the settings of render/blend_ray.h's blend_frame_t
+     * that hold for the sequence, computed by the host with render/'s own
+     * code so that both sides use the same floats. */
+    int32_t blend, pyramid, reading, depth;
+    float window_lo, window_inv_width;  /* material = clamp((v - lo) inv_width, 0, 1) */
+    float eps, dw, sw;                  /* DEMIP's tolerance, depth and sphere weights */
+    float sphere_pole[3], sphere_front[3], sphere_back[3];
+    /* A voxel whose value is <= cold_below gives material 0 to every sample
+     * whose corners are all such voxels (the margin below window_lo covers
+     * the trilinear rounding); -inf when nothing may be skipped.  The octree
+     * grids of a blend mark the other voxels (firmware/ARCHITECTURE.md). */
+    float cold_below;
 } vr_config_t;
 
 /* Per frame: the view (camera basis computed by the host from the user's
@@ -89,6 +108,10 @@ typedef struct {
     /* Object slabs: GP g casts the ray segments whose samples lie in level-0
      * slices [slab_z0[g], slab_z0[g+1]) (firmware/ARCHITECTURE.md). */
     int32_t slab_z0[VR_MAX_GPS + 1];
+    /* DEMIP's depth normalisation for this view (blend_frame_t): exact depth
+     * (distance, or view-axis depth under parallel projection) and the
+     * view-axis depth, nearest bounding-box corner 0, farthest 1. */
+    float exact_near, exact_inv_range, axis_near, axis_inv_range;
 } vr_frame_t;
 
 /* Level dims, brick dims and brick grid, computed identically on host and GPs. */

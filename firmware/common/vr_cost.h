@@ -123,6 +123,57 @@ typedef struct {
       "GP split: one multiply of the specular power (a set exponent bit)") \
     X(SHADE_DIFFUSE, (.int_ops = 55, .branches = 9), \
       "GP split, moving object: the per-frame diffuse term") \
+    /* ---- blends: MIP, DEMIP, MIDA (firmware/gp/vr_blend_kernels.h) ---- */ \
+    X(BLEND_START, (.fmul = 6, .loads = 3, .branches = 1), \
+      "a blend ray that meets the volume: voxel-space origin and direction") \
+    X(BLEND_SAMPLE, (.fadd = 4, .fmul = 3, .branches = 3), \
+      "one position of a blend ray (sampled or skipped): tests, position") \
+    X(BLEND_STEP_PERSPECTIVE, (.fmul = 1, .int_ops = 1, .branches = 1), \
+      "perspective: a blend ray's next position and sample index") \
+    X(VALUE_POINT, (.fadd = 4, .int_ops = 4, .branches = 4), \
+      "a value sample: 3D level split, blend test") \
+    X(VALUE_TRILERP, (.fadd = 23, .fmul = 10, .loads = 18, .load_use = 8, .int_ops = 91, .branches = 20), \
+      "trilinear lookup of a value: coordinates, clamps, the 8 corners' units, 7 lerps") \
+    X(VALUE_CORNER, (.loads = 1, .int_ops = 1), \
+      "a value corner in a fetched unit: its float") \
+    X(VALUE_LEVEL_BLEND, (.fadd = 2, .fmul = 1), \
+      "blend of the two 3D levels' values") \
+    X(MATERIAL, (.fadd = 3, .fmul = 1, .branches = 2), \
+      "the window ramp: material of a value") \
+    X(MIP_SAMPLE, (.fadd = 2, .branches = 2), \
+      "ray 1: the running maximum and the saturation test") \
+    X(MIP_END, (.int_ops = 1, .branches = 2), \
+      "ray 1 done: the mode and k_max tests") \
+    X(RAY2_START, (.fadd = 1, .loads = 1, .branches = 1), \
+      "ray 2: its threshold m_max - eps, the reading test") \
+    X(RAY2_TEST, (.fadd = 1, .branches = 2), \
+      "ray 2 or the occluder test: is a sample of the maximum's material") \
+    X(GAP_TEST, (.int_ops = 1, .branches = 1), \
+      "reading B: the occluder test's position against k_max") \
+    X(DEMIP_POINT, (.fadd = 3, .fmul = 3, .branches = 1), \
+      "DEMIP colour: ray 2's point in object space") \
+    X(DEPTH_AXIS, (.fadd = 5, .fmul = 4, .loads = 5, .branches = 3), \
+      "exact depth, parallel: the view-axis depth normalised") \
+    X(DEPTH_EYE, (.fadd = 8, .fmul = 4, .fsqrt = 1, .loads = 5, .branches = 3), \
+      "exact depth, perspective: the distance from the eye normalised") \
+    X(DEPTH_ENTRY, (.fadd = 10, .fmul = 8, .loads = 5, .branches = 2), \
+      "the paper's depth: the entry's view-axis depth plus the ray length") \
+    X(DEMIP_GREY, (.branches = 2), \
+      "DEMIP colour: does eq. (1) apply (reading, occluder)") \
+    X(EQ1, (.fadd = 5, .fmul = 3, .loads = 1, .branches = 2), \
+      "eq. (1): MIP (1 - dw) + 2 dw (1 - depth), clamped") \
+    X(NO_SPHERE, (.fadd = 1, .loads = 1, .branches = 1), \
+      "no colour sphere: the grey to three channels") \
+    X(SPHERE, (.fadd = 21, .fmul = 16, .fdiv = 1, .fsqrt = 1, .loads = 13, .branches = 4), \
+      "the colour sphere at ray 2's point and eq. (2)") \
+    X(MIDA_OPACITY, (.branches = 2), \
+      "MIDA: the opacity's short cuts (spacing 1, material 0)") \
+    X(MIDA_RAMP, (.fadd = 1, .branches = 1), \
+      "MIDA: the opacity of a material below 1 test") \
+    X(MIDA_POW, (.fadd = 2), \
+      "MIDA: 1 - (1 - m)^spacing (its powf is a LIBM)") \
+    X(MIDA_SAMPLE, (.fadd = 8, .fmul = 4, .branches = 3), \
+      "MIDA: the rise of the maximum, the accumulation, early termination") \
     /* ---- object slabs (firmware/gp/vr_slab_kernels.h) ---- */ \
     X(SEGMENT, (.fadd = 2, .loads = 3, .int_ops = 4, .branches = 1), \
       "a needed texel's ray through the slab: its pixel position") \
@@ -230,6 +281,14 @@ typedef struct {
       "box filter: one component of a child added") \
     X(FILTER_COMPONENT, (.fmul = 1, .stores = 1), \
       "box filter: one component of the output voxel") \
+    X(VALUE_VOXEL, (.loads = 1, .stores = 1, .int_ops = 7, .branches = 1), \
+      "blend: a level-0 value from the slab") \
+    X(REDUCE_MAX, (.fadd = 1, .loads = 1, .branches = 1), \
+      "blend, max pyramid: one child against the maximum") \
+    X(REDUCE_OUT, (.stores = 1), \
+      "blend, max pyramid: the output voxel") \
+    X(VALUE_WORD, (.fadd = 1, .loads = 1, .stores = 1, .branches = 1), \
+      "blend: a value's backing-store word and its cold test") \
     X(QUANTISE, (.fadd = 12, .fmul = 4, .loads = 4, .stores = 1, .int_ops = 10, .branches = 9), \
       "quantise a voxel's colour and opacity to block A") \
     X(QUANTISE_NORMAL, (.fadd = 3, .fmul = 6, .fdiv = 3, .fsqrt = 1, .loads = 3, .stores = 1, .int_ops = 18, .branches = 7), \

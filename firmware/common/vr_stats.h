@@ -15,6 +15,10 @@
     X(SAMPLES, "samples", FW_STAT_COUNTER, "count", "3D samples taken")                        \
     X(SKIPPED, "samples_skipped", FW_STAT_COUNTER, "count", "sample positions skipped by the octree") \
     X(SKIPS, "octree_skips", FW_STAT_COUNTER, "count", "octree skips (jumps over empty nodes)") \
+    X(RAY2_SAMPLES, "demip_ray2_samples", FW_STAT_COUNTER, "count", "DEMIP: samples of ray 2 and of reading B's occluder test (in samples)") \
+    X(SATURATED, "mip_rays_saturated", FW_STAT_COUNTER, "count", "MIP/DEMIP: rays whose ray 1 stopped at material 1") \
+    X(OCCLUDED, "demip_rays_occluded", FW_STAT_COUNTER, "count", "DEMIP reading B: rays whose ray 2 stopped at an occluder") \
+    X(TERMINATED, "mida_rays_terminated", FW_STAT_COUNTER, "count", "MIDA: rays stopped early (opacity and maximum at the threshold)") \
     X(BRICKS_FETCHED, "bricks_fetched", FW_STAT_COUNTER, "count", "bricks requested from the renderers") \
     X(BYTES_FETCHED, "bytes_fetched", FW_STAT_COUNTER, "bytes", "brick payload bytes received")  \
     X(FB_BYTES, "fb_bytes", FW_STAT_COUNTER, "bytes", "pixel bytes sent to the frame buffer")    \

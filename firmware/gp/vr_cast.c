@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <string.h>
 
+#include "vr_blend_kernels.h"
 #include "vr_slab_kernels.h"
 #include "vr_gp_internal.h"
 
@@ -21,6 +22,8 @@ void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1)
     fw_ops_t ops = {0};
     const vr_mem_t mem = {gp, &ops};
     uint64_t rays = 0, skipped = 0;
+    bool blend = vr_is_blend(s);
+    vr_blend_tally_t tally = {0};
     float px0, px1, tseg[2];
     vr_plan_pass_range(s, s->pass, &px0, &px1);
     vr_plan_seg_range(s, s->pass, &tseg[0], &tseg[1]);
@@ -41,8 +44,13 @@ void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1)
                 if (!resume)
                     rays++;
                 vr_ray_slot_t slot = {m, row + (size_t)i};
-                bool done = vr_trace(s, &rc, px, (float)(j << m) + 0.5f, slot, resume, tseg[1], &mem,
-                                     &sp, NULL, &skipped);
+                bool done = true;
+                if (blend)
+                    vr_blend_trace(s, &rc, px, (float)(j << m) + 0.5f, slot, &mem, &sp, NULL,
+                                   &skipped, &tally);
+                else
+                    done = vr_trace(s, &rc, px, (float)(j << m) + 0.5f, slot, resume, tseg[1], &mem,
+                                    &sp, NULL, &skipped);
                 if (done) {
                     rsx[i] = 2;
                     cf[i] = 1;
@@ -56,10 +64,16 @@ void vr_cast_texels(gp_t *gp, vr_state_t *s, int py0, int py1)
     fw_charge(gp, &ops);
     vr_stat_add(gp, s, VR_STAT_CYC_CAST, fw_cycles(gp) - c0);
     vr_stat_add(gp, s, VR_STAT_RAYS, rays);
-    vr_stat_add(gp, s, VR_STAT_SAMPLES, sp.n[VR_ROW_POINT]);
+    vr_stat_add(gp, s, VR_STAT_SAMPLES, sp.n[VR_ROW_POINT] + sp.n[VR_ROW_VALUE_POINT]);
     vr_stat_add(gp, s, VR_STAT_SKIPPED, skipped);
     vr_stat_add(gp, s, VR_STAT_SKIPS, sp.n[VR_ROW_SKIP]);
     vr_stat_add(gp, s, VR_STAT_CAST_PS, fw_time_ps(gp) - t0);
+    if (blend) {
+        vr_stat_add(gp, s, VR_STAT_RAY2_SAMPLES, tally.ray2_samples);
+        vr_stat_add(gp, s, VR_STAT_SATURATED, tally.saturated);
+        vr_stat_add(gp, s, VR_STAT_OCCLUDED, tally.occluded);
+        vr_stat_add(gp, s, VR_STAT_TERMINATED, tally.terminated);
+    }
 }
 
 /* After the last pass: our first texel row of each level goes to the GP

@@ -199,6 +199,13 @@ static inline bool vr_uses_exec(const vr_state_t *s)
     return s->cfg.lighting != VR_LIGHT_DIFFUSE && s->cfg.split == VR_SPLIT_PP;
 }
 
+/* MIP, DEMIP or MIDA on the value pyramid (one float per voxel), not
+ * compositing the mip map (firmware/ARCHITECTURE.md "Blends"). */
+static inline bool vr_is_blend(const vr_state_t *s)
+{
+    return s->cfg.blend != VR_BLEND_COMPOSITE;
+}
+
 /* vr_octree.c */
 bool vr_bits_alloc(gp_t *gp, bits_t *b, int nx, int ny, int nz);
 bool vr_grid_build(gp_t *gp, octgrid_t *g, const bits_t *occ, int lo, int hi, fw_ops_t *ops);

@@ -211,7 +211,9 @@ static fw_status_t frame_passes(gp_t *gp, vr_state_t *s)
     bool fits = need <= avail;
     for (int total = 2; !fits && total <= 64; total *= 2)
         for (int segs = total; segs >= 1 && !fits; segs /= 2) {
-            if (segs > 16)
+            /* A blend's ray needs the whole ray in one pass: DEMIP's ray 2
+             * restarts at the entry, so it cannot be parked front to back. */
+            if (segs > 16 || (vr_is_blend(s) && segs > 1))
                 continue;
             s->n_segs = segs;
             s->n_cols = total / segs;
@@ -228,8 +230,10 @@ static fw_status_t frame_passes(gp_t *gp, vr_state_t *s)
     if (!fits)
         return fw_fail(gp, "vr: GP %d: the bricks of its partition do not fit in local memory "
                            "(%llu bytes free after a %llu-byte working set; %llu bytes in the "
-                           "largest of %d passes)", s->g, (unsigned long long)avail,
-                       (unsigned long long)used, (unsigned long long)need, s->n_passes);
+                           "largest of %d passes%s)", s->g, (unsigned long long)avail,
+                       (unsigned long long)used, (unsigned long long)need, s->n_passes,
+                       vr_is_blend(s) ? "; a blend's rays are cast whole, in column passes only: "
+                                        "try division=resident" : "");
     s->pass = 0;
     s->cache_budget = avail;
     return FW_OK;

@@ -26,6 +26,46 @@ static int brick_id(const vr_state_t *s, int n, int bx, int by, int bz)
     return s->brick_base[n] + (bz * g->gy + by) * g->gx + bx;
 }
 
+/* A level-0 voxel into o (its components) and its backing-store words;
+ * true when it may hold anything (the octree grids' bit: opacity > 0, or,
+ * for a blend, a value that is not cold). */
+static bool level0_voxel(vr_state_t *s, int x, int y, int z, float *o, uint32_t *qa, uint32_t *qn,
+                         const vr_mem_t *mem, vr_spans_t *sp)
+{
+    if (vr_is_blend(s)) {
+        vr_value_voxel(s, x, y, z, o, mem, sp, NULL);
+        return vr_value_word(s, o, qa, sp, NULL);
+    }
+    vr_base_voxel(s, x, y, z, o, mem, sp, NULL);
+    vr_quantise(o, s->stride, qa, qn, sp, NULL);
+    return o[3] > 0.0f;
+}
+
+/* The finer level a voxel of level n >= 1 is reduced from: its rows are
+ * stored from slice z_off and row y_off on, `rows` rows per slice. */
+typedef struct {
+    const float *data;
+    int nx, ny, nz, z_off, y_off, rows;
+} level_src_t;
+
+/* Voxel (x, y, z) of level n >= 1 from its children: the mip map's box
+ * filter, or the value pyramid's max (or box) reduction; its words and
+ * occupancy as level0_voxel's. */
+static bool reduced_voxel(vr_state_t *s, const level_src_t *c, int x, int y, int z, float *o,
+                          uint32_t *qa, uint32_t *qn, vr_spans_t *sp)
+{
+    if (vr_is_blend(s) && s->cfg.pyramid == VR_PYRAMID_MAX)
+        vr_max_voxel(c->data, c->nx, c->ny, c->nz, c->z_off, c->y_off, c->rows, x, y, z, o, sp,
+                     NULL);
+    else
+        vr_filter_voxel(c->data, c->nx, c->ny, c->nz, c->z_off, c->y_off, c->rows, x, y, z,
+                        s->stride, o, sp, NULL);
+    if (vr_is_blend(s))
+        return vr_value_word(s, o, qa, sp, NULL);
+    vr_quantise(o, s->stride, qa, qn, sp, NULL);
+    return o[3] > 0.0f;
+}
+
 /* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
  * covering slices [z_first, ...) of the level. */
 static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
@@ -37,7 +77,9 @@ static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, i
     if (!blk)
         return FW_ERROR;
     uint32_t *blkn = blk + VR_BRICK_VOXELS;
-    bool any = false;
+    /* Every brick of a blend is written: a cold voxel's value still enters
+     * the trilinear samples of the cells beside it. */
+    bool any = vr_is_blend(s);
     for (int lz = 0; lz < g->bz; lz++)
         for (int ly = 0; ly < g->by; ly++)
             for (int lx = 0; lx < g->bx; lx++) {
@@ -149,9 +191,8 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                     size_t i = ((size_t)z * rows + y) * g0->nx + x;
                     size_t qi = ((size_t)z * brow + (sy + y - brow0)) * g0->nx + x;
                     float *o = strip + i * s->stride;
-                    vr_base_voxel(s, x, sy + y, zs[0] + z, o, &mem, &sp, NULL);
-                    vr_quantise(o, s->stride, &sqa[qi], sqn ? &sqn[qi] : NULL, &sp, NULL);
-                    if (o[3] > 0.0f) {
+                    if (level0_voxel(s, x, sy + y, zs[0] + z, o, &sqa[qi], sqn ? &sqn[qi] : NULL,
+                                     &mem, &sp)) {
                         size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
                         occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
                     }
@@ -174,7 +215,7 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         if (!blk)
                             return FW_ERROR;
                         uint32_t *blkn = blk + VR_BRICK_VOXELS;
-                        bool any = false;
+                        bool any = vr_is_blend(s);
                         for (int lz = 0; lz < g->bz; lz++)
                             for (int ly = 0; ly < g->by; ly++)
                                 for (int lx = 0; lx < g->bx; lx++) {
@@ -228,14 +269,11 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
                         size_t i = ((size_t)z * g->ny + y) * g->nx + x;
                         float *o = lvl[n] + (((size_t)z * lrows[n] + (y - lrow0[n])) * g->nx + x) * s->stride;
                         /* children rows 2y, 2y+1 of the source strip/level */
-                        if (n == 1)
-                            vr_filter_voxel(src, gs->nx, gs->ny, gs->nz, zs[0], sy, rows, x, y, zs[n] + z,
-                                            s->stride, o, &sp, NULL);
-                        else
-                            vr_filter_voxel(lvl[n - 1], gs->nx, gs->ny, gs->nz, zs[n - 1], lrow0[n - 1],
-                                            lrows[n - 1], x, y, zs[n] + z, s->stride, o, &sp, NULL);
-                        vr_quantise(o, s->stride, &s->qa[n][i], s->qn[n] ? &s->qn[n][i] : NULL, &sp, NULL);
-                        if (o[3] > 0.0f)
+                        level_src_t from = n == 1 ? (level_src_t){src, gs->nx, gs->ny, gs->nz, zs[0], sy, rows}
+                                                  : (level_src_t){lvl[n - 1], gs->nx, gs->ny, gs->nz,
+                                                                  zs[n - 1], lrow0[n - 1], lrows[n - 1]};
+                        if (reduced_voxel(s, &from, x, y, zs[n] + z, o, &s->qa[n][i],
+                                          s->qn[n] ? &s->qn[n][i] : NULL, &sp))
                             occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
                     }
             sy_n = ny0;
@@ -301,11 +339,9 @@ static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
             for (int y = 0; y < g->ny; y++)
                 for (int x = 0; x < g->nx; x++) {
                     size_t i = ((size_t)z * g->ny + y) * g->nx + x;
-                    vr_filter_voxel(s->upper[n - 1], gs->nx, gs->ny, gs->nz, 0, 0, gs->ny, x, y, z,
-                                    s->stride, s->upper[n] + i * s->stride, &sp, NULL);
-                    vr_quantise(s->upper[n] + i * s->stride, s->stride, &qa[i], qn ? &qn[i] : NULL, &sp,
-                                NULL);
-                    if (s->upper[n][i * s->stride + 3] > 0.0f)
+                    const level_src_t from = {s->upper[n - 1], gs->nx, gs->ny, gs->nz, 0, 0, gs->ny};
+                    if (reduced_voxel(s, &from, x, y, z, s->upper[n] + i * s->stride, &qa[i],
+                                      qn ? &qn[i] : NULL, &sp))
                         vr_bits_set(&s->occ[n], x, y, z);
                 }
         for (int bz = 0; bz < g->gz; bz++)
@@ -325,8 +361,35 @@ static fw_status_t build_upper(gp_t *gp, vr_state_t *s)
     return FW_OK;
 }
 
+/* A blend's bricks worth fetching: those holding a corner of a cell the
+ * rays may sample (set in the exact grid), since a trilinear sample there
+ * reads all eight corners' true values, cold ones too. */
+static void nonempty_table_blend(vr_state_t *s)
+{
+    for (int n = 0; n < s->cfg.levels; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        const bits_t *cells = &s->exact[n].occ[0];
+        uint8_t *t = s->brick_nonempty[n];
+        for (int z = 0; z < g->nz; z++)
+            for (int y = 0; y < g->ny; y++)
+                for (int x = 0; x < g->nx; x++) {
+                    if (!vr_bits_get(cells, x, y, z))
+                        continue;
+                    for (int k = 0; k < 8; k++) {
+                        int cx = vr_clampi(x + (k & 1), g->nx), cy = vr_clampi(y + ((k >> 1) & 1), g->ny);
+                        int cz = vr_clampi(z + (k >> 2), g->nz);
+                        t[((cz / g->bz) * g->gy + cy / g->by) * g->gx + cx / g->bx] = 1;
+                    }
+                }
+    }
+}
+
 static void nonempty_table(vr_state_t *s)
 {
+    if (vr_is_blend(s)) {
+        nonempty_table_blend(s);
+        return;
+    }
     for (int n = 0; n < s->cfg.levels; n++) {
         const vr_level_geom_t *g = &s->geom[n];
         uint8_t *t = s->brick_nonempty[n];
@@ -454,8 +517,13 @@ fw_status_t vr_setup_start(gp_t *gp)
     s->g = (int)fw_gp_index(gp);
     s->n_gp = (int)mi->n_gp;
     s->n_r = (int)mi->n_renderers;
-    s->stride = c->lighting == VR_LIGHT_DIFFUSE ? 4 : 8;
-    s->blocks_per_slot = c->lighting == VR_LIGHT_DIFFUSE ? 1 : 3;
+    /* A blend keeps one float per voxel (the value pyramid) in one block. */
+    s->stride = vr_is_blend(s) ? 1 : c->lighting == VR_LIGHT_DIFFUSE ? 4 : 8;
+    s->blocks_per_slot = vr_is_blend(s) || c->lighting == VR_LIGHT_DIFFUSE ? 1 : 3;
+    if (vr_is_blend(s) && (c->lighting != VR_LIGHT_DIFFUSE ||
+                           c->division == VR_DIVISION_OBJECT_SLABS))
+        return fw_fail(gp, "vr: a blend casts on the value pyramid with no shading, and not "
+                           "in object slabs (firmware/ARCHITECTURE.md \"Blends\")");
     vr_geometry(c, s->geom);
     int id = 0;
     for (int n = 0; n < c->levels; n++) {

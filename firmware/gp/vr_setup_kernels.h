@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "vr_cast_kernels.h"
 #include "vr_gp_internal.h"
@@ -154,6 +155,68 @@ static inline void vr_quantise(const float *o, int stride, uint32_t *qa, uint32_
         VR_SPAN(sp, cnt, QUANTISE_NORMAL, .loads = 3, .fmul = 3 + 3, .fadd = 2 + 1, .fsqrt = 1, .fdiv = 3,
                 .int_ops = 3 * (1 + 2 + 3), .branches = 1 + 3 * 2, .stores = 1);
     }
+}
+
+/* ---- the value pyramid of a blend (render/scalar_pyramid.c) ---- */
+
+/* Level-0 value of voxel (x, y, z) of the slab: the volume's own value.
+ * Span VALUE_VOXEL. */
+static inline void vr_value_voxel(const vr_state_t *s, int x, int y, int z, float *o,
+                                  const vr_mem_t *mem, vr_spans_t *sp, vr_count_t *cnt)
+{
+    o[0] = vr_slab_at(s, x, y, z, mem);
+    /* the caller's x loop (increment, compare); the slab index (subtract, 2
+     * multiplies, 2 adds) and load; the store */
+    VR_SPAN(sp, cnt, VALUE_VOXEL, .int_ops = 2 + 5, .branches = 1, .loads = 1, .stores = 1);
+}
+
+/* One output voxel of the max reduction (filter_slice's max) over the
+ * children vr_filter_voxel reads; the box kind is vr_filter_voxel itself
+ * with stride 1 (the same sum in the same order, times 1/8).  Spans
+ * FILTER_LOOP, FILTER_CHILD, REDUCE_MAX per child, REDUCE_OUT. */
+static inline void vr_max_voxel(const float *src, int snx, int sny, int snz, int z_off, int y_off,
+                                int rows, int x, int y, int z, float *o, vr_spans_t *sp,
+                                vr_count_t *cnt)
+{
+    float acc = -INFINITY;
+    for (int dz = 0; dz < 2; dz++) {
+        int cz = 2 * z + dz;
+        VR_SPAN(sp, cnt, FILTER_LOOP, .int_ops = 1 + 1, .branches = 1);
+        if (cz >= snz)
+            continue;
+        for (int dy = 0; dy < 2; dy++) {
+            int cy = 2 * y + dy;
+            VR_SPAN(sp, cnt, FILTER_LOOP, .int_ops = 1 + 1, .branches = 1);
+            if (cy >= sny)
+                continue;
+            for (int dx = 0; dx < 2; dx++) {
+                int cx = 2 * x + dx;
+                VR_SPAN(sp, cnt, FILTER_LOOP, .int_ops = 1 + 1, .branches = 1);
+                if (cx >= snx)
+                    continue;
+                float c = src[((size_t)(cz - z_off) * rows + (cy - y_off)) * snx + cx];
+                acc = c > acc ? c : acc;
+                /* the child's address as FILTER_CHILD's; its load, the
+                 * compare of the select */
+                VR_SPAN(sp, cnt, FILTER_CHILD, .int_ops = 7);
+                VR_SPAN(sp, cnt, REDUCE_MAX, .loads = 1, .fadd = 1, .branches = 1);
+            }
+        }
+    }
+    *o = acc;
+    VR_SPAN(sp, cnt, REDUCE_OUT, .stores = 1);
+}
+
+/* A blend voxel's backing-store word: the float's own bits (so a fetched
+ * value is the float render/ samples); true when the voxel is not cold
+ * (the octree grids' bit).  Span VALUE_WORD. */
+static inline bool vr_value_word(const vr_state_t *s, const float *o, uint32_t *word,
+                                 vr_spans_t *sp, vr_count_t *cnt)
+{
+    memcpy(word, o, sizeof *word);
+    /* the load and the store of the word; the cold test (compare) */
+    VR_SPAN(sp, cnt, VALUE_WORD, .loads = 1, .stores = 1, .fadd = 1, .branches = 1);
+    return o[0] > s->cfg.cold_below;
 }
 
 /* The opacity-correction tables (raycast_ctx_init): per 2D level and

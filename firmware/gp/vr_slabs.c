@@ -337,7 +337,8 @@ fw_status_t vr_slabs_on_partial(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
     s->partials[src] = fw_alloc(gp, (n ? n : 1) * sizeof(vr_partial_t));
     if (!s->partials[src])
         return FW_ERROR;
-    memcpy(s->partials[src], m->payload, m->payload_bytes);
+    if (n)                        /* an empty set has no payload (memcpy of NULL: UB) */
+        memcpy(s->partials[src], m->payload, m->payload_bytes);
     s->n_partials[src] = n;
     fw_ops_t ops = {0};
     fw_rx_deposit(gp, &ops, s->partials[src], 0, m->payload_bytes);   /* gp.rx_dma (fw_api.h) */

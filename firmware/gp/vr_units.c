@@ -80,15 +80,22 @@ size_t vr_unit_bytes(const vr_state_t *s, int id)
 }
 
 /* Whether any voxel of unit (n, ijk) is set in the level's exact octree grid
- * (opacity > 0 within one voxel: conservative for trilinear reads). */
+ * (opacity > 0 within one voxel: conservative for trilinear reads).  A
+ * blend's unit is also needed by the set cells just below its box: their
+ * samples read its voxels as their upper corners (true values, cold ones
+ * too; vr_blend_kernels.h). */
 static bool unit_occupied(const vr_state_t *s, int n, const int ijk[3], fw_ops_t *ops)
 {
     const vr_unit_geom_t *u = &s->unit[n];
     const bits_t *b = &s->exact[n].occ[0];
-    int x0 = ijk[0] * u->ux, y0 = ijk[1] * u->uy, z0 = ijk[2] * u->uz;
-    int x1 = x0 + u->ux < b->nx ? x0 + u->ux : b->nx;
-    int y1 = y0 + u->uy < b->ny ? y0 + u->uy : b->ny;
-    int z1 = z0 + u->uz < b->nz ? z0 + u->uz : b->nz;
+    int pad = vr_is_blend(s) ? 1 : 0;
+    int x0 = ijk[0] * u->ux - pad, y0 = ijk[1] * u->uy - pad, z0 = ijk[2] * u->uz - pad;
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    z0 = z0 < 0 ? 0 : z0;
+    int x1 = (ijk[0] + 1) * u->ux < b->nx ? (ijk[0] + 1) * u->ux : b->nx;
+    int y1 = (ijk[1] + 1) * u->uy < b->ny ? (ijk[1] + 1) * u->uy : b->ny;
+    int z1 = (ijk[2] + 1) * u->uz < b->nz ? (ijk[2] + 1) * u->uz : b->nz;
     for (int z = z0; z < z1; z++)
         for (int y = y0; y < y1; y++)
             for (int w = x0 >> 6; w <= (x1 - 1) >> 6 && x0 < x1; w++) {

@@ -46,6 +46,10 @@ static void gather_work(fw_session_t *s, const stats_t *f, double T, fw_frame_re
         r->pp_stream_words += (uint64_t)prog(f, g, "pp_stream_words");
         r->dcache_hits += (uint64_t)stats_valuef(f, "gp.%u.frames_dcache_hits", g);
         r->dcache_misses += (uint64_t)stats_valuef(f, "gp.%u.frames_dcache_misses", g);
+        r->ray2_samples += (uint64_t)prog(f, g, "demip_ray2_samples");
+        r->rays_saturated += (uint64_t)prog(f, g, "mip_rays_saturated");
+        r->rays_occluded += (uint64_t)prog(f, g, "demip_rays_occluded");
+        r->rays_terminated += (uint64_t)prog(f, g, "mida_rays_terminated");
         if (prog(f, g, "all_level0") == 0)
             all0 = false;
         uint64_t passes = (uint64_t)prog(f, g, "passes");

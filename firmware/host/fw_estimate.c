@@ -90,6 +90,29 @@ static int empty_height(const fw_session_t *s, const int c[3])
     return PYRAMID_HEIGHTS - 1;
 }
 
+/* A blend's stand-in for the opacity of coarse cell (i, j, k) (the march
+ * below stops where the opacity reaches early termination): 0 where every
+ * voxel is cold (the rays skip it), 1 where the mean's material is 1 (ray 1
+ * stops at a saturated sample; MIDA, which needs its maximum at the
+ * threshold too, in practice there as well), else a trace: the rays do not
+ * terminate by opacity (firmware/ARCHITECTURE.md "Blends"). */
+static float blend_cell_alpha(const fw_session_t *s, const volume_t *v, int f, int i, int j,
+                              int k, float mean)
+{
+    const vr_config_t *c = &s->cfg;
+    float hi = -INFINITY;
+    for (int z = k * f; z < (k + 1) * f && z < v->nz; z++)
+        for (int y = j * f; y < (j + 1) * f && y < v->ny; y++)
+            for (int x = i * f; x < (i + 1) * f && x < v->nx; x++)
+                hi = fmaxf(hi, volume_at(v, x, y, z));
+    if (!(hi > c->cold_below))
+        return 0.0f;
+    float m = (mean - c->window_lo) * c->window_inv_width;
+    if (m >= 1.0f)
+        return 1.0f;
+    return 1e-6f;
+}
+
 pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
 {
     const volume_t *v = job->volume;
@@ -108,7 +131,8 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
             for (int i = 0; i < nx; i++)
                 mean[((size_t)k * ny + j) * nx + i] = cell_mean(v, f, i, j, k);
     /* Opacity per level-0 voxel length from the transfer function, with the
-     * coarse central-difference gradient per level-0 voxel. */
+     * coarse central-difference gradient per level-0 voxel (a blend: its
+     * stand-in, blend_cell_alpha). */
     for (int k = 0; k < nz; k++)
         for (int j = 0; j < ny; j++)
             for (int i = 0; i < nx; i++) {
@@ -127,7 +151,10 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job)
                 }
                 float rgb[3];
                 size_t idx = ((size_t)k * ny + j) * nx + i;
-                s->coarse_alpha[idx] = classify_voxel(&job->tf, mean[idx], (float)sqrt(g2), rgb);
+                s->coarse_alpha[idx] =
+                    s->cfg.blend != VR_BLEND_COMPOSITE
+                        ? blend_cell_alpha(s, v, f, i, j, k, mean[idx])
+                        : classify_voxel(&job->tf, mean[idx], (float)sqrt(g2), rgb);
             }
     free(mean);
     s->coarse_nx = nx;

@@ -57,6 +57,12 @@ static void write_frame(json_writer_t *j, const fw_session_t *s, const fw_frame_
     json_kv_uint(j, "brick_bytes_fetched", r->bytes_fetched);
     json_kv_uint(j, "pp_stream_words", r->pp_stream_words);
     json_kv_uint(j, "column_passes_max", r->passes_max);
+    if (s->cfg.blend != VR_BLEND_COMPOSITE) {
+        json_kv_uint(j, "demip_ray2_samples", r->ray2_samples);
+        json_kv_uint(j, "mip_rays_saturated", r->rays_saturated);
+        json_kv_uint(j, "demip_rays_occluded", r->rays_occluded);
+        json_kv_uint(j, "mida_rays_terminated", r->rays_terminated);
+    }
     json_kv_uint(j, "renderer_exec_cycles_max", r->rn_exec_cycles_max);
     json_kv_uint(j, "ring_bytes", r->ring_bytes_total);
     write_class_bytes(j, "ring_bytes_by_class", r);
@@ -133,6 +139,10 @@ pp5_status_t fw_report_write(const char *path, const fw_session_t *s, const fw_f
     json_kv_string(&j, "volume", volume_name);
     json_kv_string(&j, "division", fw_division_name(s->opts.division));
     json_kv_string(&j, "firmware_settings", opts);
+    json_key(&j, "blend_settings");
+    json_begin_object(&j);
+    blend_report_json(&j, &s->rs.blend);
+    json_end_object(&j);
     json_kv_string(&j, "lighting", s->cfg.lighting == VR_LIGHT_DIFFUSE ? "diffuse"
                                    : s->cfg.lighting == VR_LIGHT_SPECULAR ? "specular" : "moving");
     json_kv_string(&j, "viewpoint_dependent_shading_on",

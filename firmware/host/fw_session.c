@@ -1,5 +1,6 @@
 /* fw_session.c: host side of the machine renderer: the configuration block, slabs and program to the GPs, setup, and one frame at a time. */
 #include "fw_session.h"
+#include "progress.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -7,6 +8,7 @@
 
 #include "firmware/common/vr_gp.h"
 #include "fw_internal.h"
+#include "render/blend_ray.h"
 
 static const char *const phase_names[FW_PHASE_COUNT] = {
     "host frame start", "GP prep (2DLevel, marks, footprint)", "PP shading (wait)",
@@ -76,6 +78,12 @@ static pp5_status_t config_shading(vr_config_t *c, const classify_tf_t *tf, cons
             return pp5_fail(PP5_E_RANGE, "machine renderer: ambient and diffuse must be >= 0 "
                             "with a sum <= 4 for the Q15 PP shade");
     }
+    /* The GP firmware classifies by Levoy's iso-value contours (vr_kernels.h);
+     * a table would silently classify every voxel as empty. */
+    if (classify_tf_is_table(tf))
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: transfer function '%s' is a table "
+                        "of control points; the machine's firmware classifies by iso-value "
+                        "contours only (use a contour function, or the native renderer)", tf->name);
     c->tf_count = tf->count;
     for (int i = 0; i < tf->count && i < VR_MAX_CONTOURS; i++) {
         c->tf[i].value = tf->contour[i].value;
@@ -125,6 +133,78 @@ static pp5_status_t config_image(fw_session_t *s, const render_settings_t *rs)
     return PP5_OK;
 }
 
+/* Whether a blend may skip cold cells exactly: parallel projection and
+ * every 2D level's rays sampling one integer 3D level (vr_ray_consts's
+ * float expressions), since the octree grids hold one level each. */
+static bool blend_can_skip(const fw_session_t *s)
+{
+    const vr_config_t *c = &s->cfg;
+    const view_params_t *v = &s->rs.view;
+    if (!v->use_octree || v->projection != PROJECTION_PARALLEL)
+        return false;
+    float step = c->sample_step > 0.0f ? c->sample_step : 1.0f, offset = log2f(step);
+    for (int m = 0; m < c->levels2d; m++) {
+        float level3d = log2f(step * (float)(1 << m)) - offset;
+        if (level3d != floorf(level3d))
+            return false;
+    }
+    return true;
+}
+
+/* MIP, DEMIP and MIDA: the sequence's part of render/'s blend_frame_t,
+ * computed by render/'s own code (blend_ray.c) so that the GPs use the same
+ * floats, and the cold limit of skipping (firmware/ARCHITECTURE.md
+ * "Blends"). */
+static pp5_status_t config_blend(fw_session_t *s, const render_job_t *job)
+{
+    vr_config_t *c = &s->cfg;
+    const blend_settings_t *b = &job->settings.blend;
+    pp5_status_t st = blend_settings_check(b);
+    if (st != PP5_OK || b->mode == BLEND_COMPOSITE)
+        return st;
+    if (s->opts.division == FW_DIVISION_OBJECT_SLABS)
+        return pp5_fail(PP5_E_UNSUPPORTED, "machine renderer: --blend %s is not cast in object "
+                        "slabs (DEMIP's ray 2 needs the whole ray's maximum before any slab can "
+                        "stop it, MIDA's colour depends on the maximum in front of each slab, "
+                        "and MIP's merge by maximum is not written yet; firmware/ARCHITECTURE.md "
+                        "\"Blends\"): use division=image-bands or division=resident", blend_mode_name(b->mode));
+    c->blend = b->mode == BLEND_MIP ? VR_BLEND_MIP : b->mode == BLEND_DEMIP ? VR_BLEND_DEMIP
+                                                                          : VR_BLEND_MIDA;
+    c->pyramid = b->pyramid == SCALAR_PYRAMID_BOX ? VR_PYRAMID_BOX : VR_PYRAMID_MAX;
+    c->reading = b->reading == DEMIP_READING_B ? VR_READING_B : VR_READING_A;
+    c->depth = b->depth == DEMIP_DEPTH_EXACT ? VR_DEPTH_EXACT : VR_DEPTH_ENTRY_PLUS_LENGTH;
+    /* The value pyramid carries no shading. */
+    c->lighting = VR_LIGHT_DIFFUSE;
+    camera_t cam;
+    camera_setup(&cam, &job->settings.view, &s->dims, job->settings.width, job->settings.height);
+    /* The rays into voxel space with the camera's 1 / spacing (render/'s
+     * blend_geom_begin), not the mip map's (smin / spacing in double): the
+     * two may differ in the last bit, and a blend's image is bit for bit. */
+    memcpy(c->inv_spacing, cam.inv_spacing, sizeof c->inv_spacing);
+    const volume_t *v = job->volume;
+    blend_frame_t f;
+    blend_frame_init(&f, b, &cam, v->min_value, v->max_value, job->settings.view.early_termination);
+    c->window_lo = f.window.lo;
+    c->window_inv_width = f.window.inv_width;
+    c->eps = f.eps;
+    c->dw = f.dw;
+    c->sw = f.sw;
+    memcpy(c->sphere_pole, f.sphere.pole, sizeof c->sphere_pole);
+    memcpy(c->sphere_front, f.sphere.front, sizeof c->sphere_front);
+    memcpy(c->sphere_back, f.sphere.back, sizeof c->sphere_back);
+    /* Trilinear samples of values <= M stay below M + 21 roundings of the
+     * largest magnitude (7 nested lerps, 3 roundings each: < 1.3e-6 of it);
+     * the margin, 2^-16 of it, is ten times that, so a cell whose corners
+     * are all at or below cold_below samples below window_lo: material 0. */
+    float mag = fmaxf(fmaxf(fabsf(v->min_value), fabsf(v->max_value)), fabsf(f.window.lo));
+    c->cold_below = f.window.lo - mag * (1.0f / 65536.0f);
+    if (!blend_can_skip(s)) {
+        c->cold_below = -INFINITY;
+        c->use_octree = 0;
+    }
+    return PP5_OK;
+}
+
 static pp5_status_t make_config(fw_session_t *s, const render_job_t *job)
 {
     vr_config_t *c = &s->cfg;
@@ -143,6 +223,8 @@ static pp5_status_t make_config(fw_session_t *s, const render_job_t *job)
     c->level_tables = s->opts.level_tables;
     c->unit_edge = s->opts.unit_edge;
     c->tiles = s->opts.tiles;
+    if (st == PP5_OK)
+        st = config_blend(s, job);
     return st;
 }
 
@@ -193,6 +275,8 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     s->rs = job->settings;
     s->shade = job->shade;
     const volume_t *v = job->volume;
+    s->value_min = v ? v->min_value : 0.0f;
+    s->value_max = v ? v->max_value : 0.0f;
     if (!v || !v->data || v->nx < 2 || v->ny < 2 || v->nz < 2)
         return pp5_fail(PP5_E_RANGE, "machine renderer: volume must be at least 2x2x2");
     if (o->division == FW_DIVISION_OBJECT_SLABS &&
@@ -216,6 +300,10 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
     s->m_ok = true;
     if (o->timeline && (st = machine_enable_timeline(&s->m)) != PP5_OK)
         return st;
+    progress_t pr;
+    progress_begin(&pr, "machine setup", 1);
+    progress_note(&pr, "loading the volume's slabs; the GPs build the 3D mip map into the "
+                  "backing store");
     st = load_gps(s, v);
     sched_stop_t stop = SCHED_STOP_IDLE;
     /* The once-per-sequence mip-map build is minutes of work on the paper's
@@ -223,6 +311,7 @@ pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5
      * sim.setup_budget_s, while sim.budget_s bounds each frame. */
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
+    progress_end(&pr);
     if (st == PP5_OK && stop != SCHED_STOP_IDLE)
         st = pp5_fail(PP5_E_FIRMWARE, "machine renderer: setup stopped (%s)", sched_stop_name(stop));
     s->setup_s = ticks_to_s(s->m.setup_ps);
@@ -244,11 +333,25 @@ void fw_session_free(fw_session_t *s)
 
 /* ---- one frame ---- */
 
-static void fill_frame(fw_session_t *s, double gx, double gy, vr_frame_t *f)
+/* DEMIP's depth normalisation for the frame's view (render/'s
+ * blend_frame_init), and the colour sphere the legend shows. */
+static void frame_blend(const fw_session_t *s, const camera_t *cam, vr_frame_t *f,
+                        blend_frame_t *bf)
+{
+    blend_frame_init(bf, &s->rs.blend, cam, s->value_min, s->value_max,
+                     s->rs.view.early_termination);
+    f->exact_near = bf->exact_near;
+    f->exact_inv_range = bf->exact_inv_range;
+    f->axis_near = bf->axis_near;
+    f->axis_inv_range = bf->axis_inv_range;
+}
+
+static void fill_frame(fw_session_t *s, double gx, double gy, vr_frame_t *f, blend_frame_t *bf)
 {
     camera_t cam;
     camera_setup(&cam, &s->rs.view, &s->dims, s->rs.width, s->rs.height);
     memset(f, 0, sizeof *f);
+    frame_blend(s, &cam, f, bf);
     f->frame = (int32_t)s->frames;
     f->mode = s->rs.mode == RENDER_MODE_GAZE ? VR_MODE_GAZE : VR_MODE_FULL;
     f->projection = cam.projection == PROJECTION_PERSPECTIVE;
@@ -326,7 +429,8 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
     if (!isfinite(gx) || !isfinite(gy))
         return pp5_fail(PP5_E_RANGE, "machine renderer: gaze point must be finite");
     vr_frame_t f;
-    fill_frame(s, gx, gy, &f);
+    blend_frame_t bf;
+    fill_frame(s, gx, gy, &f, &bf);
     memcpy(s->last_bands, f.band_y0, sizeof s->last_bands);
     pp5_tick_t t0 = s->m.sched.now, t1 = t0;
     stats_t frame;
@@ -340,7 +444,19 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
         fw_bands_learn(s, &frame);
     stats_free(&frame);
     s->last = *r;
-    return img ? copy_image(s, img) : PP5_OK;
+    if (!img)
+        return PP5_OK;
+    st = copy_image(s, img);
+    /* The colour sphere's legend (seed 002 figure 1) is the host's overlay
+     * on the image it shows, as render/ draws it over its own image (host
+     * work, not the machine's). */
+    const blend_settings_t *b = &s->rs.blend;
+    if (st == PP5_OK && b->mode == BLEND_DEMIP && b->sphere_weight > 0.0f && b->legend) {
+        camera_t cam;
+        camera_setup(&cam, &s->rs.view, &s->dims, s->rs.width, s->rs.height);
+        colour_sphere_draw_legend(&bf.sphere, cam.right, cam.down, cam.forward, img);
+    }
+    return st;
 }
 
 pp5_status_t fw_session_set_view(fw_session_t *s, const view_params_t *view)

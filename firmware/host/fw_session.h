@@ -99,6 +99,10 @@ typedef struct {
     double gp_imbalance;              /* busiest GP's busy time / the mean GP's (1 = balanced) */
     uint64_t rn_exec_cycles_max;
     uint64_t dcache_hits, dcache_misses;   /* the GPs' data-cache line lookups in this frame */
+    /* Blends (firmware/ARCHITECTURE.md "Blends"): DEMIP's ray-2 samples
+     * (within samples), MIP/DEMIP rays stopped at material 1, DEMIP reading
+     * B rays at an occluder, MIDA rays stopped early. */
+    uint64_t ray2_samples, rays_saturated, rays_occluded, rays_terminated;
     bool ok;
 } fw_frame_result_t;
 
@@ -111,6 +115,7 @@ typedef struct {
     render_settings_t rs;
     shade_params_t shade;
     mip3d_t dims;                     /* level-0 dims and spacing only (no data): for camera_setup */
+    float value_min, value_max;       /* the volume's value range (a blend's default window) */
     gaze_model_t gaze;
     double setup_s;
     uint64_t setup_ring_bytes;

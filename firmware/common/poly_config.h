@@ -1,0 +1,101 @@
+/* poly_config.h: what the host gives the polygon GP program (configuration, triangles), its ring messages, the fixed-point formats and the PP memory layout.
+ *
+ * The polygon pipeline (firmware/ARCHITECTURE.md "Polygons"): each GP holds
+ * a share of the scene's triangles (the host deals them out in order), and
+ * per frame transforms, lights, clips, culls and snaps them, sorts them into
+ * the 128x128 screen regions and, when a renderer takes a region, sends it
+ * one PP instruction stream with its triangles for that region (three QEE
+ * edge expressions clearing the Enable of pixels outside, a QEE plane for Z
+ * and a compare keeping the nearer, QEE planes for the colour channels or,
+ * for Phong, the normal components).  Sort-middle by screen region as the
+ * machine was built for (facts §2 "Sort-middle by screen region" [I/S], S4,
+ * S5). */
+#ifndef PP5_POLY_CONFIG_H
+#define PP5_POLY_CONFIG_H
+
+#include <stdint.h>
+
+typedef enum { POLY_FLAT = 0, POLY_GOURAUD = 1, POLY_PHONG = 2 } poly_shading_t;
+
+/* Fixed point (the choices, stated; tests/test_fw_poly.c checks them).
+ *  - Screen coordinates: integers in 1/16 pixel (POLY_SUB_BITS), pixel
+ *    centres at 16 x + 8.  Clipping to the guard band |ndc| <= POLY_GUARD
+ *    keeps them inside +-2^14 pixels for images up to 2048 wide, so edge
+ *    deltas are below 2^19 and the QEE edge coefficients below 2^23.
+ *  - Edges: e = D x + E y + F exact in 64-bit integers (at most 2^40); the
+ *    QEE gets F mod 2^32 and keeps bit 31 only (POLY_EDGE_SHIFT): for an
+ *    edge that crosses the region |e| < 127 (|D| + |E|) < 2^31 there, so
+ *    bit 31 of (e mod 2^32) is exactly the sign of e.
+ *  - Z: z/w in [-1, 1] maps to POLY_Z_LO + (z + 1) * POLY_Z_SCALE, 24 bits
+ *    unsigned, margins of 2^21 at both ends for the planes' rounding;
+ *    cleared to 2^24 - 1 (farther than anything drawn).
+ *  - Colour: 8 bits per channel, the plane holding value + 0.5 so that the
+ *    QEE's floor rounds it.
+ *  - Phong normals: signed 16 bits, 1.0 = 2^14 (POLY_N_ONE). */
+#define POLY_SUB_BITS 4
+#define POLY_SUB (1 << POLY_SUB_BITS)
+#define POLY_GUARD 8.0f
+#define POLY_EDGE_SHIFT 31
+#define POLY_Z_BITS 24
+#define POLY_Z_LO 2097152.0              /* 2^21 */
+#define POLY_Z_SCALE 6291456.0           /* (2^24 - 2^22) / 2 */
+#define POLY_Z_FAR 16777215u             /* 2^24 - 1 */
+#define POLY_N_ONE 16384.0
+
+/* PP memory (bit addresses in the 208-bit pixel memory). */
+enum {
+    POLY_PP_Z = 0,        /* 24: depth, unsigned, smaller is nearer */
+    POLY_PP_R = 24,       /* 8 each: the colour read out by SEND_PIXELS */
+    POLY_PP_G = 32,
+    POLY_PP_B = 40,
+    POLY_PP_ZT = 48,      /* 24: the triangle's depth at the pixel */
+    POLY_PP_T = 72,       /* 1: an edge's sign */
+    POLY_PP_BACK = 73,    /* 1, Phong: the front or back colour */
+    POLY_PP_COVER = 74,   /* 1, Phong: a triangle was written here */
+    POLY_PP_NX = 80,      /* 16 each, Phong: the normal, 1.0 = 2^14 */
+    POLY_PP_NY = 96,
+    POLY_PP_NZ = 112,
+    POLY_PP_D = 128,      /* 32, Phong shading: N.L, 2^28 = 1 */
+    POLY_PP_P = 160,      /* 32, Phong shading: products */
+    POLY_PP_S = 192,      /* 16, Phong shading: |N|^2, 2^14 = 1 */
+    /* Phong shading reuses Z and ZT once the region's triangles are in. */
+    POLY_PP_RS = 0,       /* 16: 1/|N| by Newton, 2^14 = 1 */
+    POLY_PP_W = 48,       /* 16: Newton's terms */
+    POLY_PP_BITS_USED = 208
+};
+
+/* The host's configuration of a GP (HOST_LOAD data). */
+typedef struct {
+    int32_t width, height;          /* image (top-left of the frame buffer), 1..2048 x 1..1024 */
+    int32_t shading;                /* poly_shading_t */
+    int32_t cull_back;              /* drop faces seen from behind (else two-sided, as render/mesh) */
+    int32_t n_triangles;            /* this GP's share */
+    float clip_from_world[16];      /* proj x view, row-major */
+    float view[16];                 /* camera from world (normals: its 3x3) */
+    float light[3];                 /* toward the light, camera space, unit */
+    float ambient, diffuse;
+    int32_t front_rgb[3], back_rgb[3];
+    uint32_t background_rgb[3];
+} poly_config_t;
+
+/* One input triangle (world space): corners and their unit normals. */
+typedef struct {
+    float p[3][3];
+    float n[3][3];
+} poly_tri_in_t;
+
+/* GP_USER sub-kinds (args[0]). */
+enum {
+    POLY_MSG_TRIANGLES = 1,  /* host -> GP: its triangles (payload: poly_tri_in_t[]) */
+    POLY_MSG_TOKEN = 2,      /* GP -> GP: args[1] renderer, args[2] round, args[3] frame */
+    POLY_MSG_CONFIG = 3      /* host -> GP: a new configuration (camera, light) between frames */
+};
+
+/* The GP program (firmware/gp/poly_gp.c). */
+#include "fw_api.h"
+extern const fw_program_t poly_program;
+
+#define POLY_MAX_GPS 64
+#define POLY_MAX_RENDERERS 64
+
+#endif
