@@ -25,7 +25,7 @@ static void usage(void)
            "       pp5 mesh extract FILE (--ratio R | --faces N) --out OUT\n"
            "       pp5 mesh error A B [--bound B] [--samples N]\n"
            "       pp5 mesh render MESH --out OUT.png [--size WxH] [--yaw D] [--pitch D]\n"
-           "                       [--gouraud] [--ortho]\n\n"
+           "                       [--gouraud | --phong] [--ortho]\n\n"
            "info:     counts, boundary loops, manifoldness, orientation, genus.\n"
            "simplify: simplifies to at most N faces (or R x the input's faces) and writes\n"
            "          the result; --levels also writes the collapse record (every level).\n"
@@ -37,10 +37,10 @@ static void usage(void)
            "          bounding-box diagonal (Metro convention); the maxima carry a guaranteed\n"
            "          error bound (--bound, x the diagonal, default 1e-5); the means use\n"
            "          --samples area-uniform samples per direction (default 200000).\n"
-           "render:   the mesh shaded (flat, or --gouraud) under one light through the\n"
-           "          z-buffered rasteriser, seen from --yaw degrees about the vertical\n"
-           "          (default 0: from +z) and --pitch degrees above (default 20),\n"
-           "          perspective or --ortho; --size in pixels (default 512x512).\n"
+           "render:   the mesh shaded (flat, --gouraud or --phong) under one light\n"
+           "          through the z-buffered rasteriser, seen from --yaw degrees about\n"
+           "          the vertical (default 0: from +z) and --pitch degrees above\n"
+           "          (default 20), perspective or --ortho; --size in pixels (512x512).\n"
            "MESH: .obj, .off, .ply (ASCII or binary), each optionally .gz, or a generated\n"
            "mesh: gen:sphere (20x20 UV sphere, 760 faces), gen:torus, gen:grid, gen:cube.\n"
            "OUT: .obj, .off or .ply (binary).\n\n"
@@ -57,19 +57,7 @@ static void usage(void)
 /* Loads FILE or a generated mesh named gen:NAME. */
 static pp5_status_t mesh_cli_load(const char *what, mesh_t *m)
 {
-    if (strncmp(what, "gen:", 4) != 0)
-        return mesh_load(what, m);
-    const char *g = what + 4;
-    if (strcmp(g, "sphere") == 0)
-        return mesh_gen_uv_sphere(20, 20, 1.0, m);
-    if (strcmp(g, "torus") == 0)
-        return mesh_gen_torus(48, 24, 1.0, 0.35, m);
-    if (strcmp(g, "grid") == 0)
-        return mesh_gen_grid(32, 32, 1.0, 1.0, m);
-    if (strcmp(g, "cube") == 0)
-        return mesh_gen_cube(8, m);
-    return pp5_fail(PP5_E_CONFIG, "%s: unknown generated mesh (sphere, torus, grid, cube)",
-                    what);
+    return strncmp(what, "gen:", 4) == 0 ? mesh_gen_by_name(what, m) : mesh_load(what, m);
 }
 
 static int cmd_info(int argc, char **argv)
@@ -124,7 +112,7 @@ typedef struct {
     long samples;
     int width, height;           /* render */
     double yaw, pitch;
-    bool gouraud, ortho, help;
+    bool gouraud, phong, ortho, help;
 } mesh_cli_opts_t;
 
 static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
@@ -136,6 +124,7 @@ static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
         {"samples", required_argument, NULL, 's'}, {"size", required_argument, NULL, 'z'},
         {"yaw", required_argument, NULL, 'y'},    {"pitch", required_argument, NULL, 'p'},
         {"gouraud", no_argument, NULL, 'g'},      {"ortho", no_argument, NULL, 't'},
+        {"phong", no_argument, NULL, 'P'},
         {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0},
     };
     memset(o, 0, sizeof *o);
@@ -157,6 +146,7 @@ static pp5_status_t parse_opts(int argc, char **argv, mesh_cli_opts_t *o)
         case 'y': st = cliopt_double("--yaw", optarg, -3600, 3600, &o->yaw); break;
         case 'p': st = cliopt_double("--pitch", optarg, -90, 90, &o->pitch); break;
         case 'g': o->gouraud = true; break;
+        case 'P': o->phong = true; break;
         case 't': o->ortho = true; break;
         case 'h': o->help = true; break;
         default: st = pp5_fail(PP5_E_CONFIG, "unknown option (see pp5 mesh --help)");
@@ -320,7 +310,8 @@ static int cmd_render(int argc, char **argv)
         raster_camera_t cam;
         raster_style_t style;
         raster_camera_fit(&m, o.yaw, o.pitch, (double)o.width / o.height, !o.ortho, &cam);
-        raster_style_default(&style, o.gouraud ? RASTER_GOURAUD : RASTER_FLAT);
+        raster_shading_t sh = o.phong ? RASTER_PHONG : o.gouraud ? RASTER_GOURAUD : RASTER_FLAT;
+        raster_style_default(&style, sh);
         raster_style_orient(&style, &m);
         mesh_raster_clear(&r, &vp, bg);
         st = mesh_raster_draw(&r, &vp, &m, &cam, &style);
@@ -328,7 +319,8 @@ static int cmd_render(int argc, char **argv)
             st = png_write(o.out, &r.image);
         if (st == PP5_OK)
             printf("%s: %d faces, %s shading, %dx%d pixels -> %s\n", m.source, m.n_faces,
-                   o.gouraud ? "Gouraud" : "flat", o.width, o.height, o.out);
+                   sh == RASTER_PHONG ? "Phong" : sh == RASTER_GOURAUD ? "Gouraud" : "flat",
+                   o.width, o.height, o.out);
         mesh_raster_free(&r);
     }
     mesh_free(&m);

@@ -56,6 +56,15 @@ static void render_usage(void)
            "  --sigma-deg S         Gaussian falloff width (default: from the paper's\n"
            "                        5-inch level-0 span, see gaze2d.h)\n"
            "  --progressive N       N frames of unchanged view, keeping the 2D mip map\n"
+           "Polygons (native; instead of a volume):\n"
+           "  --mesh FILE           one mesh (.obj/.off/.ply[.gz], or gen:sphere|torus|...)\n"
+           "  --scene FILE          a scene file (render/mesh/mesh_scene.h), or the built-in\n"
+           "                        gen:spheres100k (100 spheres and tori, 100,000 triangles)\n"
+           "  --shading flat|gouraud|phong   (default gouraud)\n"
+           "                        --mode gaze: levels of detail by eccentricity and the\n"
+           "                        variable-resolution Z-buffer (paper §7); --compare adds\n"
+           "                        full, LOD-only and VRZ-only frames and the savings table\n"
+           "                        (one host thread; --out and --report as for volumes)\n"
            "Outputs:\n"
            "  --out FILE.png        the image\n"
            "  --report FILE.json    rays, samples, timings, settings (and quality)\n"
@@ -82,7 +91,9 @@ static void render_usage(void)
            "  pp5 render --volume skull_64x64x64_f32le.raw --out s.png --tf-out skull.tf\n"
            "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n"
            "  pp5 render --machine --phantom shepp-logan --blend demip --sphere-weight 0.3 --out d.png\n"
-           "  (--machine casts every --blend; MIP, DEMIP and MIDA in image-bands or resident)\n",
+           "  (--machine casts every --blend; MIP, DEMIP and MIDA in image-bands or resident)\n"
+           "  pp5 render --scene gen:spheres100k --shading phong --mode gaze --gaze 200,300 \\\n"
+           "      --compare --size 640x480 --out s.png --report s.json\n",
            phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
 }
 
@@ -93,7 +104,8 @@ enum {
     OPT_MODE, OPT_GAZE, OPT_MONITOR, OPT_DISTANCE, OPT_SUBTENSE, OPT_PROGRESSIVE, OPT_OUT,
     OPT_REPORT, OPT_COMPARE, OPT_LEVELS_OUT, OPT_FIG5, OPT_THREADS, OPT_HELP, OPT_SWEET,
     OPT_PERIPHERY, OPT_PERIPHERY_PX, OPT_SIGMA, OPT_MACHINE, OPT_DIVISION, OPT_SPLIT, OPT_FRAMES,
-    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET, OPT_VOXEL_FORMAT, OPT_TF_OUT,
+    OPT_TIMELINE, OPT_PRESET, OPT_CONFIG, OPT_SET, OPT_VOXEL_FORMAT, OPT_TF_OUT, OPT_MESH,
+    OPT_SCENE, OPT_SHADING,
     OPT_BLEND   /* OPT_BLEND + i: blend_options[i] */
 };
 
@@ -162,6 +174,9 @@ static const struct option longopts[] = {
     {"sphere-map", required_argument, NULL, OPT_BLEND + 7},
     {"sphere-rotate", required_argument, NULL, OPT_BLEND + 8},
     {"mip-pyramid", required_argument, NULL, OPT_BLEND + 9},
+    {"mesh", required_argument, NULL, OPT_MESH},
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"shading", required_argument, NULL, OPT_SHADING},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
 };
@@ -377,6 +392,24 @@ static pp5_status_t parse_machine(render_cmd_t *c, int opt, const char *a)
     return st;
 }
 
+/* Polygons: render_mesh.c. */
+static pp5_status_t parse_mesh(render_cmd_t *c, int opt, const char *a)
+{
+    static const char *const shadings[] = {"flat", "gouraud", "phong"};
+    int i = 0;
+    pp5_status_t st = PP5_OK;
+    switch (opt) {
+    case OPT_MESH: c->mesh_file = a; break;
+    case OPT_SCENE: c->scene_file = a; break;
+    case OPT_SHADING:
+        if ((st = one_of("--shading", a, shadings, 3, &i)) == PP5_OK)
+            c->shading = (raster_shading_t)i;
+        break;
+    default: return NOT_MINE;
+    }
+    return st;
+}
+
 /* MIP, DEMIP, MIDA and their settings (seed 002). */
 static pp5_status_t parse_blend(render_cmd_t *c, int opt, const char *a)
 {
@@ -392,6 +425,7 @@ void render_cmd_defaults(render_cmd_t *c)
     render_choices_default(&c->choices);
     fw_options_default(&c->fw);
     c->frames = 1;
+    c->shading = RASTER_GOURAUD;
 }
 
 const struct option *render_cmd_options(int *count)
@@ -404,7 +438,7 @@ pp5_status_t render_cmd_option(render_cmd_t *c, int opt, const char *arg)
 {
     pp5_status_t (*const groups[])(render_cmd_t *, int, const char *) = {
         parse_input, parse_shading, parse_view, parse_gaze, parse_output, parse_machine,
-        parse_blend,
+        parse_blend, parse_mesh,
     };
     for (size_t i = 0; i < sizeof groups / sizeof groups[0]; i++) {
         pp5_status_t st = groups[i](c, opt, arg);
@@ -416,6 +450,9 @@ pp5_status_t render_cmd_option(render_cmd_t *c, int opt, const char *arg)
 
 static pp5_status_t render_run(render_cmd_t *c)
 {
+    /* Polygons check their own outputs (render_mesh.c). */
+    if (c->mesh_file || c->scene_file)
+        return render_mesh_run(c, stdout);
     /* A bad output path is reported before the volume is loaded and rendered. */
     pp5_status_t st = outpath_check_all("--out", c->out_png, "--report", c->report_json, "--fig5",
                                         c->fig5_png, "--timeline", c->timeline, "--tf-out",

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include "firmware/host/fw_session.h"
 #include "params.h"
+#include "render/mesh/mesh_raster.h"
 #include "render/render_job.h"
 
 typedef struct {
@@ -25,6 +26,9 @@ typedef struct {
     const char *timeline;
     fw_options_t fw;              /* --division, --split and firmware --set keys */
     pp5_params_cli_t params;      /* --preset, --config, --set */
+    /* Polygons (render_mesh.c): --mesh FILE or --scene FILE, --shading. */
+    const char *mesh_file, *scene_file;
+    raster_shading_t shading;
 } render_cmd_t;
 
 void render_cmd_defaults(render_cmd_t *c);
@@ -39,5 +43,8 @@ pp5_status_t render_native_run(const render_cmd_t *c, const render_job_t *job, c
 /* The emulated machine: frames, PNG, the comparison with render/, reports,
  * timeline. */
 pp5_status_t render_machine_run(const render_cmd_t *c, const render_job_t *job, FILE *log);
+/* --mesh / --scene natively: full or gaze-directed, PNG, report, and with
+ * --compare the savings of LOD, VRZ and both with their image quality. */
+pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log);
 
 #endif

@@ -202,3 +202,20 @@ pp5_status_t mesh_gen_fill_hole(mesh_t *m, int hole_edges)
     *m = out;
     return PP5_OK;
 }
+
+pp5_status_t mesh_gen_by_name(const char *name, mesh_t *m)
+{
+    if (strncmp(name, "gen:", 4) != 0)
+        return pp5_fail(PP5_E_CONFIG, "%s: not a generated mesh name (gen:NAME)", name);
+    const char *g = name + 4;
+    if (strcmp(g, "sphere") == 0)
+        return mesh_gen_uv_sphere(20, 20, 1.0, m);
+    if (strcmp(g, "torus") == 0)
+        return mesh_gen_torus(48, 24, 1.0, 0.35, m);
+    if (strcmp(g, "grid") == 0)
+        return mesh_gen_grid(32, 32, 1.0, 1.0, m);
+    if (strcmp(g, "cube") == 0)
+        return mesh_gen_cube(8, m);
+    return pp5_fail(PP5_E_CONFIG, "%s: unknown generated mesh (sphere, torus, grid, cube)",
+                    name);
+}

@@ -21,5 +21,9 @@ pp5_status_t mesh_gen_cube(int n, mesh_t *m);
  * `hole_edges` edges closed by a fan around one new vertex at the loop's
  * centroid (hole_edges = 22 gives seed 003's 69,473 faces, 34,835 vertices). */
 pp5_status_t mesh_gen_fill_hole(mesh_t *m, int hole_edges);
+/* gen:sphere (20x20 UV sphere, radius 1), gen:torus (48x24, R 1, r 0.35),
+ * gen:grid (32x32 over the unit square), gen:cube (8x8 a side); any other
+ * name is an error naming the choices. */
+pp5_status_t mesh_gen_by_name(const char *name, mesh_t *m);
 
 #endif

@@ -1,7 +1,9 @@
 /* mesh_raster.c: the z-buffered triangle rasteriser (mesh_raster.h): cameras,
  * per-vertex transform and lighting, near-plane clipping, edge functions with
- * the top-left rule, depth test, perspective-correct Gouraud intensities. */
+ * the top-left rule, depth test, perspective-correct Gouraud intensities and
+ * Phong normals. */
 #include "mesh_raster.h"
+#include "mesh_tri.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -164,6 +166,7 @@ void raster_style_default(raster_style_t *s, raster_shading_t shading)
     s->ambient = 0.18, s->diffuse = 0.82;
     s->front_rgb[0] = 214, s->front_rgb[1] = 208, s->front_rgb[2] = 196;
     s->back_rgb[0] = 150, s->back_rgb[1] = 96, s->back_rgb[2] = 84;
+    s->specular = 0, s->shininess = 32;
 }
 
 void raster_style_orient(raster_style_t *s, const mesh_t *m)
@@ -181,10 +184,12 @@ void raster_style_orient(raster_style_t *s, const mesh_t *m)
 typedef struct {
     double clip[4];
     double light[2];   /* intensity seen from the front and from behind */
+    double n[3];       /* camera-space normal (Phong) */
 } rvert_t;
 
 typedef struct {
     double x, y, z, inv_w, light;
+    double n[3];
 } svert_t;
 
 static void lerp_vert(const rvert_t *a, const rvert_t *b, double t, rvert_t *out)
@@ -193,6 +198,8 @@ static void lerp_vert(const rvert_t *a, const rvert_t *b, double t, rvert_t *out
         out->clip[k] = a->clip[k] + t * (b->clip[k] - a->clip[k]);
     for (int k = 0; k < 2; k++)
         out->light[k] = a->light[k] + t * (b->light[k] - a->light[k]);
+    for (int k = 0; k < 3; k++)
+        out->n[k] = a->n[k] + t * (b->n[k] - a->n[k]);
 }
 
 /* Sutherland-Hodgman against the near plane z + w >= 0 (and w > 0). */
@@ -233,6 +240,12 @@ typedef struct {
     const uint8_t *rgb;       /* front or back colour */
     bool gouraud;
     double flat_light;
+    /* Phong: the style, the light (normalised, camera space), and the sign
+     * that turns the normal toward the viewer (-1 for a face seen from behind) */
+    bool phong;
+    const raster_style_t *style;
+    const double *l;
+    double facing;
 } tri_ctx_t;
 
 static void put_pixel(const tri_ctx_t *t, int x, int y, double z, double light)
@@ -245,6 +258,30 @@ static void put_pixel(const tri_ctx_t *t, int x, int y, double z, double light)
     double l = light < 0 ? 0 : light;
     for (int k = 0; k < 3; k++) {
         double c = t->rgb[k] * l;
+        px[k] = (uint8_t)(c >= 255 ? 255 : c + 0.5);
+    }
+}
+
+/* Phong at one pixel: the interpolated normal n (any length) gives
+ * I = ambient + diffuse max(0, n.l) and a white highlight
+ * specular max(0, r.v)^shininess with r = 2 (n.l) n - l, v = +z. */
+static void put_phong(const tri_ctx_t *t, int x, int y, double z, const double n_in[3])
+{
+    size_t i = (size_t)y * (size_t)t->r->image.width + (size_t)x;
+    if (!(z < t->r->depth[i]) || z < -1 || z > 1)
+        return;
+    t->r->depth[i] = z;
+    double n[3] = {t->facing * n_in[0], t->facing * n_in[1], t->facing * n_in[2]};
+    normalise(n);
+    double d = dot3(n, t->l), light = t->style->ambient + t->style->diffuse * (d > 0 ? d : 0);
+    double spec = 0;
+    if (d > 0 && t->style->specular > 0) {
+        double rz = 2 * d * n[2] - t->l[2];
+        spec = rz > 0 ? t->style->specular * pow(rz, t->style->shininess) : 0;
+    }
+    uint8_t *px = t->r->image.pixels + 3 * i;
+    for (int k = 0; k < 3; k++) {
+        double c = t->rgb[k] * light + 255 * spec;
         px[k] = (uint8_t)(c >= 255 ? 255 : c + 0.5);
     }
 }
@@ -277,6 +314,13 @@ static void raster_triangle(const tri_ctx_t *t, const svert_t *v0, const svert_t
             if (!inside)
                 continue;
             double z = b[0] * v0->z + b[1] * v1->z + b[2] * v2->z, light = t->flat_light;
+            if (t->phong) {
+                const double inv_w[3] = {v0->inv_w, v1->inv_w, v2->inv_w}, *attr[3] = {v0->n, v1->n, v2->n};
+                double n[3];
+                tri_interp_perspective(b, inv_w, attr, 3, n);
+                put_phong(t, x, y, z, n);
+                continue;
+            }
             if (t->gouraud) {   /* perspective-correct: interpolate light/w and 1/w */
                 double iw = b[0] * v0->inv_w + b[1] * v1->inv_w + b[2] * v2->inv_w;
                 light = (b[0] * v0->light * v0->inv_w + b[1] * v1->light * v1->inv_w +
@@ -301,6 +345,7 @@ static void draw_face(tri_ctx_t *t, const raster_viewport_t *vp, const rvert_t t
         sv[i].y = vp->y0 + 0.5 * (1 - poly[i].clip[1] * iw) * vp->height;
         sv[i].z = poly[i].clip[2] * iw;
         sv[i].inv_w = iw;
+        memcpy(sv[i].n, poly[i].n, sizeof sv[i].n);
     }
     /* counter-clockwise on the screen (y up) is the front */
     double area = edge_fn(&sv[0], &sv[1], sv[2].x, sv[2].y);
@@ -309,6 +354,7 @@ static void draw_face(tri_ctx_t *t, const raster_viewport_t *vp, const rvert_t t
         sv[i].light = poly[i].light[front ? 0 : 1];
     t->rgb = front ? style->front_rgb : style->back_rgb;
     t->flat_light = flat[front ? 0 : 1];
+    t->facing = front ? 1 : -1;
     for (int i = 1; i + 1 < n; i++)
         raster_triangle(t, &sv[0], &sv[i], &sv[i + 1]);
 }
@@ -362,12 +408,14 @@ pp5_status_t mesh_raster_draw(mesh_raster_t *r, const raster_viewport_t *vp, con
     pp5_status_t st = mesh_validate(m, m->source);
     if (st != PP5_OK)
         return st;
-    tri_ctx_t t = {r, 0, 0, 0, 0, NULL, style->shading == RASTER_GOURAUD, 0};
+    tri_ctx_t t = {r, 0, 0, 0, 0, NULL, style->shading == RASTER_GOURAUD, 0,
+                   style->shading == RASTER_PHONG, style, NULL, 1};
     if (!clip_viewport(r, vp, &t.x0, &t.y0, &t.x1, &t.y1) || m->n_faces == 0)
         return PP5_OK;
     double clip_from_world[16], l[3];
     memcpy(l, style->light_dir, sizeof l);
     normalise(l);
+    t.l = l;
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
             double acc = 0;
@@ -375,8 +423,9 @@ pp5_status_t mesh_raster_draw(mesh_raster_t *r, const raster_viewport_t *vp, con
                 acc += cam->proj[4 * i + k] * cam->view[4 * k + j];
             clip_from_world[4 * i + j] = acc;
         }
-    double *vn = t.gouraud ? vertex_normals(m, cam->view) : NULL;
-    if (t.gouraud && !vn)
+    bool smooth = t.gouraud || t.phong;
+    double *vn = smooth ? vertex_normals(m, cam->view) : NULL;
+    if (smooth && !vn)
         return pp5_fail(PP5_E_NOMEM, "raster: out of memory for %d normals", m->n_vertices);
     for (int f = 0; f < m->n_faces; f++) {
         rvert_t tri[3];
@@ -387,6 +436,8 @@ pp5_status_t mesh_raster_draw(mesh_raster_t *r, const raster_viewport_t *vp, con
             transform(clip_from_world, p, tri[c].clip);
             if (vn)
                 light_of(style, l, vn + 3 * v, tri[c].light);
+            for (int k = 0; k < 3; k++)
+                tri[c].n[k] = t.phong ? vn[3 * v + k] : 0;
         }
         if (!vn) {
             mesh_face_normal(m, f, fn);

@@ -1,5 +1,5 @@
-/* mesh_raster.h: a small z-buffered triangle rasteriser, flat or Gouraud
- * shading under one directional light.
+/* mesh_raster.h: a small z-buffered triangle rasteriser, flat, Gouraud or
+ * Phong shading under one directional light.
  *
  * It draws meshes into a viewport of an RGB image (so level images can sit
  * side by side) through a camera given as a view and a projection matrix.
@@ -19,7 +19,9 @@
 #include "mesh.h"
 #include "png_io.h"
 
-typedef enum { RASTER_FLAT, RASTER_GOURAUD } raster_shading_t;
+/* RASTER_PHONG interpolates the camera-space vertex normal perspective-
+ * correctly and lights every pixel with it (mesh_tri.h). */
+typedef enum { RASTER_FLAT, RASTER_GOURAUD, RASTER_PHONG } raster_shading_t;
 
 /* An RGB image with its depth buffer (depth = z/w in [-1, 1], smaller is
  * nearer; +infinity where nothing was drawn). */
@@ -41,6 +43,11 @@ typedef struct {
     double ambient, diffuse;   /* intensity = ambient + diffuse max(0, n.l) */
     uint8_t front_rgb[3];      /* surface colour of faces seen from the front */
     uint8_t back_rgb[3];       /* ... and from behind (the inside, through holes) */
+    /* Phong only: a white highlight specular max(0, r.v)^shininess, r the
+     * light reflected about the pixel's normal, v = +z (a viewer at infinity,
+     * so the highlight needs no per-pixel position); added while n.l > 0.
+     * raster_style_default sets specular = 0 (no highlight), shininess = 32. */
+    double specular, shininess;
 } raster_style_t;
 
 /* A rectangle of the image: x0, y0 (top-left pixel), width, height. */
