@@ -66,17 +66,20 @@ static bool reduced_voxel(vr_state_t *s, const level_src_t *c, int x, int y, int
     return o[3] > 0.0f;
 }
 
-/* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
- * covering slices [z_first, ...) of the level. */
-static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
-                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops,
-                               vr_spans_t *sp)
+/* Where a brick's voxels are copied from: a level's quantised words for
+ * slices [z_first, ...) and rows [y_first, y_first + rows) of each. */
+typedef struct {
+    const uint32_t *qa, *qn;
+    int z_first, y_first, rows;
+} brick_src_t;
+
+/* Copies brick (n, bx, by, bz) from src into blk (and blkn when src has
+ * normals) and charges the copy; true when the brick must be written. */
+static bool gather_brick(gp_t *gp, const vr_state_t *s, int n, int bx, int by, int bz,
+                         const brick_src_t *src, uint32_t *blk, uint32_t *blkn, fw_ops_t *ops,
+                         vr_spans_t *sp)
 {
     const vr_level_geom_t *g = &s->geom[n];
-    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
-    if (!blk)
-        return FW_ERROR;
-    uint32_t *blkn = blk + VR_BRICK_VOXELS;
     /* Every brick of a blend is written: a cold voxel's value still enters
      * the trilinear samples of the cells beside it. */
     bool any = vr_is_blend(s);
@@ -85,18 +88,35 @@ static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, i
             for (int lx = 0; lx < g->bx; lx++) {
                 int x = bx * g->bx + lx, y = by * g->by + ly, z = bz * g->bz + lz;
                 size_t i = ((size_t)lz * g->by + ly) * g->bx + lx;
-                if (x >= g->nx || y >= g->ny || z >= g->nz)
+                if (x >= g->nx || y >= g->ny || z >= g->nz || y < src->y_first ||
+                    y >= src->y_first + src->rows)
                     continue;
-                size_t src = ((size_t)(z - z_first) * g->ny + y) * g->nx + x;
-                blk[i] = qa[src];
-                if (qn)
-                    blkn[i] = qn[src];
-                any |= (qa[src] >> 24) != 0;
+                size_t si =
+                    ((size_t)(z - src->z_first) * src->rows + (y - src->y_first)) * g->nx + x;
+                blk[i] = src->qa[si];
+                if (src->qn)
+                    blkn[i] = src->qn[si];
+                any |= (src->qa[si] >> 24) != 0;
             }
     ops->loads += VR_BRICK_VOXELS * 2u;
     ops->stores += VR_BRICK_VOXELS * 2u;
     ops->int_ops += VR_BRICK_VOXELS * 4u;
     charge_spans(gp, ops, sp);
+    return any;
+}
+
+/* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
+ * covering slices [z_first, ...) of the level. */
+static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
+                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops,
+                               vr_spans_t *sp)
+{
+    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
+    if (!blk)
+        return FW_ERROR;
+    uint32_t *blkn = blk + VR_BRICK_VOXELS;
+    const brick_src_t src = {qa, qn, z_first, 0, s->geom[n].ny};
+    bool any = gather_brick(gp, s, n, bx, by, bz, &src, blk, blkn, ops, sp);
     fw_status_t rc = FW_OK;
     if (any) {
         int id = brick_id(s, n, bx, by, bz);
@@ -234,35 +254,17 @@ static void slab_build_level0_rows(gp_t *gp, vr_state_t *s, slab_build_t *b, int
 }
 
 /* Sends level-0 brick (bx, by, bz) to its renderer from the brick-row
- * stage, which holds rows [brow0, brow0 + brow) from slice zs[0] on; the
- * staged counterpart of write_brick. */
+ * stage, which holds rows [brow0, brow0 + brow) from slice zs[0] on (a
+ * send that fails returns at once, as it always did here). */
 static fw_status_t slab_write_level0_brick(gp_t *gp, vr_state_t *s, slab_build_t *b, int bx,
                                            int by, int bz, int brow0)
 {
-    const vr_level_geom_t *g = &s->geom[0];
     uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 8u);
     if (!blk)
         return FW_ERROR;
     uint32_t *blkn = blk + VR_BRICK_VOXELS;
-    bool any = vr_is_blend(s);
-    for (int lz = 0; lz < g->bz; lz++)
-        for (int ly = 0; ly < g->by; ly++)
-            for (int lx = 0; lx < g->bx; lx++) {
-                int x = bx * g->bx + lx, y = by * g->by + ly, z = bz * g->bz + lz;
-                size_t bi = ((size_t)lz * g->by + ly) * g->bx + lx;
-                if (x >= g->nx || y >= g->ny || z >= g->nz || y < brow0 || y >= brow0 + b->brow)
-                    continue;
-                size_t si = ((size_t)(z - b->zs[0]) * b->brow + (y - brow0)) * g->nx + x;
-                blk[bi] = b->sqa[si];
-                if (b->sqn)
-                    blkn[bi] = b->sqn[si];
-                any |= (b->sqa[si] >> 24) != 0;
-            }
-    b->ops.loads += VR_BRICK_VOXELS * 2u;
-    b->ops.stores += VR_BRICK_VOXELS * 2u;
-    b->ops.int_ops += VR_BRICK_VOXELS * 4u;
-    charge_spans(gp, &b->ops, &b->sp);
-    if (any) {
+    const brick_src_t src = {b->sqa, b->sqn, b->zs[0], brow0, b->brow};
+    if (gather_brick(gp, s, 0, bx, by, bz, &src, blk, blkn, &b->ops, &b->sp)) {
         int id = brick_id(s, 0, bx, by, bz);
         unsigned r = (unsigned)id % (unsigned)s->n_r;
         unsigned base = ((unsigned)id / (unsigned)s->n_r) * (unsigned)s->blocks_per_slot;
