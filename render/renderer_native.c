@@ -246,10 +246,10 @@ static void job_reconstruct_row(void *ctx, int y, int thread)
     mip2d_render_row(&r->mip2d, y, r->level_best + (size_t)y * w, w, row);
 }
 
-pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
-                            render_stats_t *stats)
+/* The frame's settings are usable (size, gaze, view, blend and its value
+ * pyramid), before anything of the renderer is changed. */
+static pp5_status_t frame_check_settings(const native_renderer_t *r, const render_settings_t *s)
 {
-    memset(stats, 0, sizeof *stats);
     if (s->width < 1 || s->height < 1 || s->width > 16384 || s->height > 16384)
         return pp5_fail(PP5_E_RANGE, "render: image size %dx%d outside 1..16384",
                         s->width, s->height);
@@ -267,14 +267,18 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         return pp5_fail(PP5_E_CONFIG, "render: --blend %s needs the %s value pyramid "
                         "(native_renderer_build_scalar)", blend_mode_name(s->blend.mode),
                         scalar_pyramid_kind_name(s->blend.pyramid));
-    double t_start = now_ms();
-    int threads = s->threads > 0 ? s->threads : r->threads;
-    gaze_model_t gm;
-    st = gaze_model_init(&gm, &s->display, s->width, s->height);
-    if (st != PP5_OK)
-        return st;
+    return PP5_OK;
+}
+
+/* The 2D mip map and level maps for this frame: kept (with every ray cast
+ * so far) for a progressive frame of the same view, else cleared or made
+ * anew; then the level tables and the view remembered. */
+static pp5_status_t frame_prepare_buffers(native_renderer_t *r, const render_settings_t *s,
+                                          const gaze_model_t *gm)
+{
     bool keep = s->progressive && r->have_view && same_view(s, &r->last);
-    int levels_wanted = s->mode == RENDER_MODE_GAZE ? gm.max_level + 1 : 1;
+    int levels_wanted = s->mode == RENDER_MODE_GAZE ? gm->max_level + 1 : 1;
+    pp5_status_t st;
     if (!keep && r->level_best && r->level_now && r->mip2d.width == s->width &&
         r->mip2d.height == s->height && r->mip2d.levels == levels_wanted) {
         /* A new view of the same size: reuse the buffers (fresh allocations
@@ -306,12 +310,87 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
                             memcmp(&r->tables_display, &s->display, sizeof s->display) != 0)) {
         r->tables_display = s->display;
         gaze_level_tables_free(&r->tables);
-        if ((st = gaze_level_tables_init(&r->tables, &gm, s->width, s->height)) != PP5_OK)
+        if ((st = gaze_level_tables_init(&r->tables, gm, s->width, s->height)) != PP5_OK)
             return st;
     }
-    r->gaze = gm;
+    r->gaze = *gm;
     r->last = *s;
     r->have_view = true;
+    return PP5_OK;
+}
+
+/* Phase 1: 2DLevel per pixel, then the texels it needs, marked in bands of
+ * rows; *full tells whether every band needs full resolution everywhere. */
+static pp5_status_t frame_mark_texels(frame_job_t *job, int threads, bool *full)
+{
+    native_renderer_t *r = job->r;
+    const render_settings_t *s = job->s;
+    pp5_status_t st = parallel_for(threads, s->height, job_levels_row, job);
+    mip2d_clear_need(&r->mip2d);
+    /* Marking in bands of rows: a band writes texel rows up to and including
+     * the first row of the next band, so even bands run in parallel, then odd
+     * ones (flags are only ever set, so the result is order-independent). */
+    job->band_rows = 16 << (r->mip2d.levels - 1);
+    job->bands = (s->height + job->band_rows - 1) / job->band_rows;
+    /* Heights are at most 16384 and bands at least 16 rows. */
+    PP5_ASSERT(job->bands <= MARK_MAX_BANDS, "too many marking bands");
+    if (st == PP5_OK) {
+        job->band_parity = 0;
+        st = parallel_for(threads, (job->bands + 1) / 2, job_mark_band, job);
+    }
+    if (st == PP5_OK) {
+        job->band_parity = 1;
+        st = parallel_for(threads, job->bands / 2, job_mark_band, job);
+    }
+    *full = true;
+    for (int b = 0; b < job->bands; b++)
+        *full = *full && job->band_full[b];
+    return st;
+}
+
+/* Phase 2: cast every needed, not yet cast texel once, the texel rows of
+ * all levels numbered as one range (row_level: its prefix sums). */
+static pp5_status_t frame_cast_texels(frame_job_t *job, int threads, pp5_status_t st)
+{
+    const mip2d_t *m = &job->r->mip2d;
+    job->row_level[0] = 0;
+    for (int l = 0; l < m->levels; l++)
+        job->row_level[l + 1] = job->row_level[l] + m->h[l];
+    for (int l = m->levels + 1; l <= MIP2D_MAX_LEVELS; l++)
+        job->row_level[l] = job->row_level[m->levels];
+    if (st == PP5_OK)
+        st = parallel_for(threads, job->row_level[m->levels], job_cast_row, job);
+    return st;
+}
+
+/* The threads' ray and sample counters summed into the frame's statistics
+ * (in thread order: integer sums, the same for any thread count). */
+static void frame_sum_counts(const frame_job_t *job, render_stats_t *stats)
+{
+    for (int t = 0; t < PARALLEL_MAX_THREADS; t++) {
+        stats->rays += job->counts[t].c.rays;
+        stats->samples += job->counts[t].c.samples;
+        stats->samples_skipped += job->counts[t].c.samples_skipped;
+        stats->samples_retraced += job->counts[t].c.samples_retraced;
+    }
+}
+
+pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t *s, image8_t *out,
+                            render_stats_t *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    pp5_status_t st = frame_check_settings(r, s);
+    if (st != PP5_OK)
+        return st;
+    double t_start = now_ms();
+    int threads = s->threads > 0 ? s->threads : r->threads;
+    gaze_model_t gm;
+    st = gaze_model_init(&gm, &s->display, s->width, s->height);
+    if (st != PP5_OK)
+        return st;
+    st = frame_prepare_buffers(r, s, &gm);
+    if (st != PP5_OK)
+        return st;
     st = image8_alloc(out, s->width, s->height, 3);
     if (st != PP5_OK)
         return st;
@@ -332,38 +411,11 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
     if (s->blend.mode != BLEND_COMPOSITE)
         blend_ctx_init(&job->blend, &r->scalar, &cam, &s->view, &s->blend);
 
-    /* Phase 1: 2DLevel per pixel, then the texels it needs (serial marking:
-     * neighbouring pixels share texels). */
     double t1 = now_ms();
-    st = parallel_for(threads, s->height, job_levels_row, job);
-    mip2d_clear_need(&r->mip2d);
-    /* Marking in bands of rows: a band writes texel rows up to and including
-     * the first row of the next band, so even bands run in parallel, then odd
-     * ones (flags are only ever set, so the result is order-independent). */
-    job->band_rows = 16 << (r->mip2d.levels - 1);
-    job->bands = (s->height + job->band_rows - 1) / job->band_rows;
-    /* Heights are at most 16384 and bands at least 16 rows. */
-    PP5_ASSERT(job->bands <= MARK_MAX_BANDS, "too many marking bands");
-    if (st == PP5_OK) {
-        job->band_parity = 0;
-        st = parallel_for(threads, (job->bands + 1) / 2, job_mark_band, job);
-    }
-    if (st == PP5_OK) {
-        job->band_parity = 1;
-        st = parallel_for(threads, job->bands / 2, job_mark_band, job);
-    }
-    bool full = true;
-    for (int b = 0; b < job->bands; b++)
-        full = full && job->band_full[b];
-    /* Phase 2: cast every needed, not yet cast texel once. */
+    bool full;
+    st = frame_mark_texels(job, threads, &full);
     double t2 = now_ms();
-    job->row_level[0] = 0;
-    for (int l = 0; l < r->mip2d.levels; l++)
-        job->row_level[l + 1] = job->row_level[l] + r->mip2d.h[l];
-    for (int l = r->mip2d.levels + 1; l <= MIP2D_MAX_LEVELS; l++)
-        job->row_level[l] = job->row_level[r->mip2d.levels];
-    if (st == PP5_OK)
-        st = parallel_for(threads, job->row_level[r->mip2d.levels], job_cast_row, job);
+    st = frame_cast_texels(job, threads, st);
     /* Phase 3: RenderPixel for every pixel. */
     double t3 = now_ms();
     if (st == PP5_OK)
@@ -374,12 +426,7 @@ pp5_status_t native_renderer_frame(native_renderer_t *r, const render_settings_t
         colour_sphere_draw_legend(&job->blend.frame.sphere, cam.right, cam.down, cam.forward,
                                   out);
     double t4 = now_ms();
-    for (int t = 0; t < PARALLEL_MAX_THREADS; t++) {
-        stats->rays += job->counts[t].c.rays;
-        stats->samples += job->counts[t].c.samples;
-        stats->samples_skipped += job->counts[t].c.samples_skipped;
-        stats->samples_retraced += job->counts[t].c.samples_retraced;
-    }
+    frame_sum_counts(job, stats);
     free(job);
     stats->ms_levels = t2 - t1;
     stats->ms_cast = t3 - t2;

@@ -171,6 +171,124 @@ static void table1_ablation(native_renderer_t *r, const scene_t *sc)
                : "early termination matters as much as the octree here");
 }
 
+/* The scene's volume resampled trilinearly to the paper's scan size,
+ * 256x256x109; brainsmall's voxels are near isotropic, so the resampled
+ * spacing keeps the physical shape. */
+static pp5_status_t table1_resample_to_paper(scene_t *sc)
+{
+    volume_t big;
+    pp5_status_t st = volume_resample(&sc->volume, 256, 256, 109, &big);
+    if (st != PP5_OK)
+        return st;
+    big.spacing[0] = sc->volume.spacing[0] * sc->volume.nx / 256.0;
+    big.spacing[1] = sc->volume.spacing[1] * sc->volume.ny / 256.0;
+    big.spacing[2] = sc->volume.spacing[2] * sc->volume.nz / 109.0;
+    volume_free(&sc->volume);
+    sc->volume = big;
+    return PP5_OK;
+}
+
+/* The heading of one data set's table: what was loaded, and whether it
+ * is a stand-in or resampled. */
+static void table1_print_heading(const char *dataset, const scene_t *sc, bool resample_to_paper)
+{
+    printf("\n%s: %s, %dx%dx%d, spacing %g:%g:%g, transfer function %s\n",
+           sc->fell_back ? "FALLBACK" : dataset, sc->volume.source, sc->volume.nx, sc->volume.ny,
+           sc->volume.nz, sc->volume.spacing[0], sc->volume.spacing[1], sc->volume.spacing[2],
+           sc->tf.name);
+    if (sc->fell_back)
+        printf("  note: %s\n", sc->note);
+    if (resample_to_paper)
+        printf("  (brainsmall resampled trilinearly to the paper's 256x256x109: the paper's "
+               "sample density, not its detail)\n");
+}
+
+/* The table itself: the paper's rows and ours, the variable/full ratios of
+ * both, and what the octree skipped. */
+static void table1_print_table(const table1_run_t *var, const table1_run_t *full,
+                               const native_renderer_t *r, const reproduce_opts_t *o)
+{
+    char machine[64];
+    snprintf(machine, sizeof machine, "this host, %d thread%s", o->threads,
+             o->threads == 1 ? "" : "s");
+    printf("  %-6s %-9s %9s %11s %12s  %7s\n", "", "image", "rays", "3D samples", "time",
+           "smp/ray");
+    print_row("paper", "variable", PAPER_VAR_RAYS, PAPER_VAR_SAMPLES, PAPER_VAR_SECONDS,
+              "DEC 3100");
+    print_row("paper", "full", PAPER_FULL_RAYS, PAPER_FULL_SAMPLES, PAPER_FULL_SECONDS,
+              "DEC 3100");
+    print_row("ours", "variable", (double)var->stats.rays, (double)var->stats.samples,
+              var->ms_median / 1e3, machine);
+    print_row("ours", "full", (double)full->stats.rays, (double)full->stats.samples,
+              full->ms_median / 1e3, machine);
+    double pr = PAPER_VAR_RAYS / PAPER_FULL_RAYS, ps = PAPER_VAR_SAMPLES / PAPER_FULL_SAMPLES,
+           pt = PAPER_VAR_SECONDS / PAPER_FULL_SECONDS;
+    double orr = (double)var->stats.rays / (double)full->stats.rays;
+    double os = (double)var->stats.samples / (double)full->stats.samples;
+    double ot = var->ms_median / full->ms_median;
+    printf("  ratios variable/full:   rays        3D samples   time\n");
+    printf("    paper                 %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", pr, 1 / pr,
+           ps, 1 / ps, pt, 1 / pt);
+    printf("    ours                  %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", orr,
+           1 / orr, os, 1 / os, ot, 1 / ot);
+    printf("  octree: %llu (variable) and %llu (full) sample positions skipped as empty; "
+           "mip map built in %.0f ms (not in the frame times, as in the paper)\n",
+           (unsigned long long)var->stats.samples_skipped,
+           (unsigned long long)full->stats.samples_skipped, r->ms_build_mip + r->ms_build_octree);
+}
+
+/* Why our rays, samples and times differ from the paper's: computed from
+ * the runs, never tuned. */
+static void table1_print_differences(const table1_run_t *var, const table1_run_t *full,
+                                     const scene_t *sc)
+{
+    double pr = PAPER_VAR_RAYS / PAPER_FULL_RAYS, ps = PAPER_VAR_SAMPLES / PAPER_FULL_SAMPLES;
+    double orr = (double)var->stats.rays / (double)full->stats.rays;
+    double os = (double)var->stats.samples / (double)full->stats.samples;
+    printf("  where we differ:\n");
+    if (fabs(orr - pr) / pr > 0.05)
+        printf("   - rays: %.3f vs the paper's %.3f.  Rays are pure geometry of the sweet "
+               "spot (2DLevel) and the image size; the paper does not give its Gaussian's "
+               "width, ours puts level 1 at the paper's 5\" circle.\n", orr, pr);
+    else
+        printf("   - rays: within 5%% of the paper's ratio (they depend only on the sweet-spot "
+               "geometry and image size).\n");
+    printf("     Casting all four corners of both masks as the paper's pseudocode does "
+           "(zero-weight corners included; we skip them) would be %ld rays.\n",
+           pseudocode_rays(TABLE1_SIZE, 0.5 * (TABLE1_SIZE - 1), 0.5 * (TABLE1_SIZE - 1)));
+    double full_spr = (double)full->stats.samples / (double)full->stats.rays;
+    printf("   - samples per full-resolution ray: ours %.1f, paper %.1f (316,500 / 44,100).  "
+           "Ray length through the data, opacity (transfer function: ours %s, the "
+           "paper's is not published) and early termination decide this; the paper's 7.2 "
+           "samples per ray across a 256-voxel-deep volume imply that most of each ray was "
+           "skipped by the octree and that rays stopped within a few voxels of the "
+           "surface.\n", full_spr, PAPER_FULL_SAMPLES / PAPER_FULL_RAYS, sc->tf.name);
+    double var_spr = (double)var->stats.samples / (double)var->stats.rays;
+    if (var_spr > full_spr)
+        printf("   - our variable-resolution rays draw more samples each (%.1f) than the "
+               "full-resolution ones (%.1f); the ablation below shows what decides the "
+               "samples ratio.\n", var_spr, full_spr);
+    printf("   - samples ratio: ours 1/%.1f, paper 1/%.1f, 1/8 for data of uniform complexity "
+           "(4x fewer rays x 2x longer steps in the periphery); the periphery/fovea mix of "
+           "the data decides where between.\n", 1 / os, 1 / ps);
+    printf("   - time: ours is measured on this host (frame time incl. 2DLevel, casting and "
+           "reconstruction); the ratio also carries per-frame costs that do not scale with "
+           "rays (level map, reconstruction of all %d pixels).\n", TABLE1_SIZE * TABLE1_SIZE);
+}
+
+/* The last difference: the data set is not the paper's scan. */
+static void table1_print_data_note(const char *dataset, const scene_t *sc)
+{
+    if (sc->fell_back)
+        printf("   - data: the Shepp-Logan phantom is not the paper's MR head.\n");
+    else if (strcmp(dataset, "mrbrain") == 0)
+        printf("   - data: brainsmall is VolPack's Gaussian-downsampled 8-bit copy of the "
+               "paper's scan (the 16-bit original is not available here).\n");
+    else
+        printf("   - data: CThead is CT, not the paper's MR; same size class (256x256x113, "
+               "1:1:2 spacing).\n");
+}
+
 static int table1_dataset(const char *dataset, bool resample_to_paper,
                           const reproduce_opts_t *o, bool *phantom_done)
 {
@@ -181,20 +299,9 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
     char tag[64];
     snprintf(tag, sizeof tag, "%s%s", sc.fell_back ? "phantom" : dataset,
              resample_to_paper ? "_256x256x109" : "");
-    if (resample_to_paper && !sc.fell_back) {
-        /* The paper's scan size; brainsmall's voxels are near isotropic, so
-         * the resampled spacing keeps the physical shape. */
-        volume_t big;
-        st = volume_resample(&sc.volume, 256, 256, 109, &big);
-        if (st != PP5_OK) {
-            scene_free(&sc);
-            return cliopt_report("reproduce", st);
-        }
-        big.spacing[0] = sc.volume.spacing[0] * sc.volume.nx / 256.0;
-        big.spacing[1] = sc.volume.spacing[1] * sc.volume.ny / 256.0;
-        big.spacing[2] = sc.volume.spacing[2] * sc.volume.nz / 109.0;
-        volume_free(&sc.volume);
-        sc.volume = big;
+    if (resample_to_paper && !sc.fell_back && (st = table1_resample_to_paper(&sc)) != PP5_OK) {
+        scene_free(&sc);
+        return cliopt_report("reproduce", st);
     }
     if (sc.fell_back && *phantom_done) {
         printf("\n%s: %s (the phantom's figures are above)\n", dataset, sc.note);
@@ -203,15 +310,7 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
     }
     if (sc.fell_back)
         *phantom_done = true;
-    printf("\n%s: %s, %dx%dx%d, spacing %g:%g:%g, transfer function %s\n",
-           sc.fell_back ? "FALLBACK" : dataset, sc.volume.source, sc.volume.nx, sc.volume.ny,
-           sc.volume.nz, sc.volume.spacing[0], sc.volume.spacing[1], sc.volume.spacing[2],
-           sc.tf.name);
-    if (sc.fell_back)
-        printf("  note: %s\n", sc.note);
-    if (resample_to_paper)
-        printf("  (brainsmall resampled trilinearly to the paper's 256x256x109: the paper's "
-               "sample density, not its detail)\n");
+    table1_print_heading(dataset, &sc, resample_to_paper);
     shade_params_t sh;
     shade_defaults(&sh);
     native_renderer_t r;
@@ -229,72 +328,10 @@ static int table1_dataset(const char *dataset, bool resample_to_paper,
         scene_free(&sc);
         return cliopt_report("reproduce", st);
     }
-    char machine[64];
-    snprintf(machine, sizeof machine, "this host, %d thread%s", o->threads,
-             o->threads == 1 ? "" : "s");
-    printf("  %-6s %-9s %9s %11s %12s  %7s\n", "", "image", "rays", "3D samples", "time",
-           "smp/ray");
-    print_row("paper", "variable", PAPER_VAR_RAYS, PAPER_VAR_SAMPLES, PAPER_VAR_SECONDS,
-              "DEC 3100");
-    print_row("paper", "full", PAPER_FULL_RAYS, PAPER_FULL_SAMPLES, PAPER_FULL_SECONDS,
-              "DEC 3100");
-    print_row("ours", "variable", (double)var.stats.rays, (double)var.stats.samples,
-              var.ms_median / 1e3, machine);
-    print_row("ours", "full", (double)full.stats.rays, (double)full.stats.samples,
-              full.ms_median / 1e3, machine);
-    double pr = PAPER_VAR_RAYS / PAPER_FULL_RAYS, ps = PAPER_VAR_SAMPLES / PAPER_FULL_SAMPLES,
-           pt = PAPER_VAR_SECONDS / PAPER_FULL_SECONDS;
-    double orr = (double)var.stats.rays / (double)full.stats.rays;
-    double os = (double)var.stats.samples / (double)full.stats.samples;
-    double ot = var.ms_median / full.ms_median;
-    printf("  ratios variable/full:   rays        3D samples   time\n");
-    printf("    paper                 %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", pr, 1 / pr,
-           ps, 1 / ps, pt, 1 / pt);
-    printf("    ours                  %.3f (1/%.1f) %.3f (1/%.1f) %.3f (1/%.1f)\n", orr,
-           1 / orr, os, 1 / os, ot, 1 / ot);
-    printf("  octree: %llu (variable) and %llu (full) sample positions skipped as empty; "
-           "mip map built in %.0f ms (not in the frame times, as in the paper)\n",
-           (unsigned long long)var.stats.samples_skipped,
-           (unsigned long long)full.stats.samples_skipped, r.ms_build_mip + r.ms_build_octree);
-    /* Why the figures differ: computed, never tuned. */
-    printf("  where we differ:\n");
-    if (fabs(orr - pr) / pr > 0.05)
-        printf("   - rays: %.3f vs the paper's %.3f.  Rays are pure geometry of the sweet "
-               "spot (2DLevel) and the image size; the paper does not give its Gaussian's "
-               "width, ours puts level 1 at the paper's 5\" circle.\n", orr, pr);
-    else
-        printf("   - rays: within 5%% of the paper's ratio (they depend only on the sweet-spot "
-               "geometry and image size).\n");
-    printf("     Casting all four corners of both masks as the paper's pseudocode does "
-           "(zero-weight corners included; we skip them) would be %ld rays.\n",
-           pseudocode_rays(TABLE1_SIZE, 0.5 * (TABLE1_SIZE - 1), 0.5 * (TABLE1_SIZE - 1)));
-    double full_spr = (double)full.stats.samples / (double)full.stats.rays;
-    printf("   - samples per full-resolution ray: ours %.1f, paper %.1f (316,500 / 44,100).  "
-           "Ray length through the data, opacity (transfer function: ours %s, the "
-           "paper's is not published) and early termination decide this; the paper's 7.2 "
-           "samples per ray across a 256-voxel-deep volume imply that most of each ray was "
-           "skipped by the octree and that rays stopped within a few voxels of the "
-           "surface.\n", full_spr, PAPER_FULL_SAMPLES / PAPER_FULL_RAYS, sc.tf.name);
-    double var_spr = (double)var.stats.samples / (double)var.stats.rays;
-    if (var_spr > full_spr)
-        printf("   - our variable-resolution rays draw more samples each (%.1f) than the "
-               "full-resolution ones (%.1f); the ablation below shows what decides the "
-               "samples ratio.\n", var_spr, full_spr);
-    printf("   - samples ratio: ours 1/%.1f, paper 1/%.1f, 1/8 for data of uniform complexity "
-           "(4x fewer rays x 2x longer steps in the periphery); the periphery/fovea mix of "
-           "the data decides where between.\n", 1 / os, 1 / ps);
-    printf("   - time: ours is measured on this host (frame time incl. 2DLevel, casting and "
-           "reconstruction); the ratio also carries per-frame costs that do not scale with "
-           "rays (level map, reconstruction of all %d pixels).\n", TABLE1_SIZE * TABLE1_SIZE);
+    table1_print_table(&var, &full, &r, o);
+    table1_print_differences(&var, &full, &sc);
     table1_ablation(&r, &sc);
-    if (sc.fell_back)
-        printf("   - data: the Shepp-Logan phantom is not the paper's MR head.\n");
-    else if (strcmp(dataset, "mrbrain") == 0)
-        printf("   - data: brainsmall is VolPack's Gaussian-downsampled 8-bit copy of the "
-               "paper's scan (the 16-bit original is not available here).\n");
-    else
-        printf("   - data: CThead is CT, not the paper's MR; same size class (256x256x113, "
-               "1:1:2 spacing).\n");
+    table1_print_data_note(dataset, &sc);
     native_renderer_free(&r);
     scene_free(&sc);
     return 0;

@@ -66,17 +66,20 @@ static bool reduced_voxel(vr_state_t *s, const level_src_t *c, int x, int y, int
     return o[3] > 0.0f;
 }
 
-/* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
- * covering slices [z_first, ...) of the level. */
-static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
-                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops,
-                               vr_spans_t *sp)
+/* Where a brick's voxels are copied from: a level's quantised words for
+ * slices [z_first, ...) and rows [y_first, y_first + rows) of each. */
+typedef struct {
+    const uint32_t *qa, *qn;
+    int z_first, y_first, rows;
+} brick_src_t;
+
+/* Copies brick (n, bx, by, bz) from src into blk (and blkn when src has
+ * normals) and charges the copy; true when the brick must be written. */
+static bool gather_brick(gp_t *gp, const vr_state_t *s, int n, int bx, int by, int bz,
+                         const brick_src_t *src, uint32_t *blk, uint32_t *blkn, fw_ops_t *ops,
+                         vr_spans_t *sp)
 {
     const vr_level_geom_t *g = &s->geom[n];
-    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
-    if (!blk)
-        return FW_ERROR;
-    uint32_t *blkn = blk + VR_BRICK_VOXELS;
     /* Every brick of a blend is written: a cold voxel's value still enters
      * the trilinear samples of the cells beside it. */
     bool any = vr_is_blend(s);
@@ -85,18 +88,35 @@ static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, i
             for (int lx = 0; lx < g->bx; lx++) {
                 int x = bx * g->bx + lx, y = by * g->by + ly, z = bz * g->bz + lz;
                 size_t i = ((size_t)lz * g->by + ly) * g->bx + lx;
-                if (x >= g->nx || y >= g->ny || z >= g->nz)
+                if (x >= g->nx || y >= g->ny || z >= g->nz || y < src->y_first ||
+                    y >= src->y_first + src->rows)
                     continue;
-                size_t src = ((size_t)(z - z_first) * g->ny + y) * g->nx + x;
-                blk[i] = qa[src];
-                if (qn)
-                    blkn[i] = qn[src];
-                any |= (qa[src] >> 24) != 0;
+                size_t si =
+                    ((size_t)(z - src->z_first) * src->rows + (y - src->y_first)) * g->nx + x;
+                blk[i] = src->qa[si];
+                if (src->qn)
+                    blkn[i] = src->qn[si];
+                any |= (src->qa[si] >> 24) != 0;
             }
     ops->loads += VR_BRICK_VOXELS * 2u;
     ops->stores += VR_BRICK_VOXELS * 2u;
     ops->int_ops += VR_BRICK_VOXELS * 4u;
     charge_spans(gp, ops, sp);
+    return any;
+}
+
+/* Sends brick (n, bx, by, bz) to its renderer from a quantised level array
+ * covering slices [z_first, ...) of the level. */
+static fw_status_t write_brick(gp_t *gp, vr_state_t *s, int n, int bx, int by, int bz,
+                               const uint32_t *qa, const uint32_t *qn, int z_first, fw_ops_t *ops,
+                               vr_spans_t *sp)
+{
+    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 4u * 2u);
+    if (!blk)
+        return FW_ERROR;
+    uint32_t *blkn = blk + VR_BRICK_VOXELS;
+    const brick_src_t src = {qa, qn, z_first, 0, s->geom[n].ny};
+    bool any = gather_brick(gp, s, n, bx, by, bz, &src, blk, blkn, ops, sp);
     fw_status_t rc = FW_OK;
     if (any) {
         int id = brick_id(s, n, bx, by, bz);
@@ -121,185 +141,216 @@ static size_t level_voxels(const vr_level_geom_t *g, int slices)
     return (size_t)g->nx * (size_t)g->ny * (size_t)slices;
 }
 
-/* Builds this GP's slab: level 0 strip by strip, levels 1..K from each
- * strip, bricks written to the renderers as soon as they are complete. */
-static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
-{
-    const vr_config_t *c = &s->cfg;
-    int K = c->slab_k, T = c->slab_t, z0 = s->g * T;
-    fw_ops_t ops = {0};
-    const vr_mem_t mem = {gp, &ops};
-    vr_spans_t sp;
-    memset(&sp, 0, sizeof sp);
-    int zs[VR_MAX_LEVELS], ts[VR_MAX_LEVELS];
-    for (int n = 0; n <= K; n++) {
-        const vr_level_geom_t *g = &s->geom[n];
-        zs[n] = z0 >> n;
-        ts[n] = g->slab_t;
-        if (zs[n] + ts[n] > g->nz)
-            ts[n] = g->nz - zs[n];
-        if (ts[n] < 0)
-            ts[n] = 0;
-    }
-    /* Whole-slab float storage for levels 1..K (small), quantised A/N for
-     * the same; level 0 lives one strip at a time. */
-    /* Strip height: one level-0 brick row (32 rows), or the whole slice when
-     * a brick holds every row (small volumes); a multiple of 2^K so that every
-     * level's strip rows are complete. */
-    int unit = 1 << K;
+/* What the steps of build_slab share: each level's slices, the strip's
+ * shape and the buffers the level-0 strip and levels 1..K are built in. */
+typedef struct {
+    int K;                              /* levels 0..K are built on the slab GPs */
+    int zs[VR_MAX_LEVELS], ts[VR_MAX_LEVELS]; /* level n's first slice and slice count here */
     /* brow: rows of one level-0 brick row (quantised blocks are staged until
      * a brick row is complete); rows: rows of float components built at a
      * time (2^K, so every level's rows are complete per strip). */
-    int brow = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
-                                              : s->geom[0].by;
-    int rows = brow % unit == 0 ? unit : brow;
-    float *lvl[VR_MAX_LEVELS] = {0};
-    int lrow0[VR_MAX_LEVELS] = {0}, lrows[VR_MAX_LEVELS] = {0};
-    uint8_t *occb[VR_MAX_LEVELS] = {0};
+    int brow, rows;
+    float *lvl[VR_MAX_LEVELS];          /* levels 1..K, float components */
+    int lrow0[VR_MAX_LEVELS], lrows[VR_MAX_LEVELS]; /* first row and rows held of lvl[n] */
+    uint8_t *occb[VR_MAX_LEVELS];       /* levels 1..K, occupancy bits of the slab */
+    float *strip;                       /* level 0, one strip of float components */
+    uint32_t *sqa, *sqn;                /* level 0, one brick row of quantised words */
+    uint8_t *occ0;                      /* level 0, occupancy bits of the whole slab */
+    size_t occ0_count;
+    fw_ops_t ops;
+    vr_mem_t mem;
+    vr_spans_t sp;
+} slab_build_t;
+
+/* Slices [zs[n], zs[n] + ts[n]) of each level 0..K: the slab's share, cut
+ * at the level's depth. */
+static void slab_levels_extent(const vr_state_t *s, slab_build_t *b)
+{
+    int z0 = s->g * s->cfg.slab_t;
+    for (int n = 0; n <= b->K; n++) {
+        const vr_level_geom_t *g = &s->geom[n];
+        b->zs[n] = z0 >> n;
+        b->ts[n] = g->slab_t;
+        if (b->zs[n] + b->ts[n] > g->nz)
+            b->ts[n] = g->nz - b->zs[n];
+        if (b->ts[n] < 0)
+            b->ts[n] = 0;
+    }
+}
+
+/* Strip height: one level-0 brick row (32 rows), or the whole slice when a
+ * brick holds every row (small volumes); a multiple of 2^K so that every
+ * level's strip rows are complete. */
+static void slab_strip_shape(const vr_state_t *s, slab_build_t *b)
+{
+    int unit = 1 << b->K;
+    b->brow = s->geom[0].by >= s->geom[0].ny ? ((s->geom[0].ny + unit - 1) / unit) * unit
+                                             : s->geom[0].by;
+    b->rows = b->brow % unit == 0 ? unit : b->brow;
+}
+
+/* Storage for levels 1..K: floats for one strip's rows (the whole slab at
+ * level K, which goes to GP 0), and the slab's quantised words and
+ * occupancy bits. */
+static fw_status_t slab_alloc_coarse_levels(gp_t *gp, vr_state_t *s, slab_build_t *b)
+{
+    int K = b->K;
     for (int n = 1; n <= K; n++) {
-        size_t cnt = level_voxels(&s->geom[n], ts[n] > 0 ? ts[n] : 1);
-        /* Levels below K: one strip's rows; level K: the whole slab (it goes to GP 0). */
-        lrows[n] = n < K ? ((rows + (1 << n) - 1) >> n) : s->geom[n].ny;
-        if (lrows[n] < 1)
-            lrows[n] = 1;
-        size_t lcnt = (size_t)s->geom[n].nx * lrows[n] * (ts[n] > 0 ? ts[n] : 1);
-        lvl[n] = fw_alloc(gp, lcnt * (size_t)s->stride * sizeof(float));
-        occb[n] = fw_alloc(gp, cnt / 8 + 1);
-        if (!occb[n])
+        int ts = b->ts[n];
+        size_t cnt = level_voxels(&s->geom[n], ts > 0 ? ts : 1);
+        b->lrows[n] = n < K ? ((b->rows + (1 << n) - 1) >> n) : s->geom[n].ny;
+        if (b->lrows[n] < 1)
+            b->lrows[n] = 1;
+        size_t lcnt = (size_t)s->geom[n].nx * b->lrows[n] * (ts > 0 ? ts : 1);
+        b->lvl[n] = fw_alloc(gp, lcnt * (size_t)s->stride * sizeof(float));
+        b->occb[n] = fw_alloc(gp, cnt / 8 + 1);
+        if (!b->occb[n])
             return FW_ERROR;
         s->qa[n] = fw_alloc(gp, cnt * 4);
         s->qn[n] = s->stride == 8 ? fw_alloc(gp, cnt * 4) : NULL;
-        if (!lvl[n] || !s->qa[n] || (s->stride == 8 && !s->qn[n]))
+        if (!b->lvl[n] || !s->qa[n] || (s->stride == 8 && !s->qn[n]))
             return FW_ERROR;
     }
+    return FW_OK;
+}
+
+/* Storage for level 0: one strip of floats, one brick row of quantised
+ * words, and the slab's occupancy bits (sent to GP 0 at the end). */
+static fw_status_t slab_alloc_level0(gp_t *gp, const vr_state_t *s, slab_build_t *b)
+{
     const vr_level_geom_t *g0 = &s->geom[0];
-    size_t strip_vox = (size_t)g0->nx * rows * (ts[0] > 0 ? ts[0] : 1);
-    size_t stage_vox = (size_t)g0->nx * brow * (ts[0] > 0 ? ts[0] : 1);
-    float *strip = fw_alloc(gp, strip_vox * (size_t)s->stride * sizeof(float));
-    uint32_t *sqa = fw_alloc(gp, stage_vox * 4), *sqn = s->stride == 8 ? fw_alloc(gp, stage_vox * 4) : NULL;
-    /* Full-slab level-0 occupancy bits to send to GP 0. */
-    size_t occ0_count = level_voxels(g0, ts[0]);
-    uint8_t *occ0 = fw_alloc(gp, occ0_count / 8 + 1);
-    if (!strip || !sqa || (s->stride == 8 && !sqn) || !occ0)
+    int ts0 = b->ts[0] > 0 ? b->ts[0] : 1;
+    size_t strip_vox = (size_t)g0->nx * b->rows * ts0;
+    size_t stage_vox = (size_t)g0->nx * b->brow * ts0;
+    b->strip = fw_alloc(gp, strip_vox * (size_t)s->stride * sizeof(float));
+    b->sqa = fw_alloc(gp, stage_vox * 4);
+    b->sqn = s->stride == 8 ? fw_alloc(gp, stage_vox * 4) : NULL;
+    b->occ0_count = level_voxels(g0, b->ts[0]);
+    b->occ0 = fw_alloc(gp, b->occ0_count / 8 + 1);
+    if (!b->strip || !b->sqa || (s->stride == 8 && !b->sqn) || !b->occ0)
         return FW_ERROR;
-    for (int sy = 0; sy < g0->ny; sy += rows) {
-        int ry = g0->ny - sy < rows ? g0->ny - sy : rows;
-        int brow0 = (sy / brow) * brow;
-        for (int z = 0; z < ts[0]; z++)
-            for (int y = 0; y < ry; y++)
-                for (int x = 0; x < g0->nx; x++) {
-                    size_t i = ((size_t)z * rows + y) * g0->nx + x;
-                    size_t qi = ((size_t)z * brow + (sy + y - brow0)) * g0->nx + x;
-                    float *o = strip + i * s->stride;
-                    if (level0_voxel(s, x, sy + y, zs[0] + z, o, &sqa[qi], sqn ? &sqn[qi] : NULL,
-                                     &mem, &sp)) {
-                        size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
-                        occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
-                    }
+    return FW_OK;
+}
+
+/* Level 0 of rows [sy, sy + ry) of every slab slice: floats into the strip,
+ * words into the brick-row stage (from row brow0 on), occupancy bits. */
+static void slab_build_level0_rows(gp_t *gp, vr_state_t *s, slab_build_t *b, int sy, int ry,
+                                   int brow0)
+{
+    const vr_level_geom_t *g0 = &s->geom[0];
+    for (int z = 0; z < b->ts[0]; z++)
+        for (int y = 0; y < ry; y++)
+            for (int x = 0; x < g0->nx; x++) {
+                size_t i = ((size_t)z * b->rows + y) * g0->nx + x;
+                size_t qi = ((size_t)z * b->brow + (sy + y - brow0)) * g0->nx + x;
+                float *o = b->strip + i * s->stride;
+                if (level0_voxel(s, x, sy + y, b->zs[0] + z, o, &b->sqa[qi],
+                                 b->sqn ? &b->sqn[qi] : NULL, &b->mem, &b->sp)) {
+                    size_t gi = ((size_t)z * g0->ny + sy + y) * g0->nx + x;
+                    b->occ0[gi >> 3] |= (uint8_t)(1u << (gi & 7));
                 }
-        vr_stat_add(gp, s, VR_STAT_SETUP_VOXELS, (uint64_t)ts[0] * ry * g0->nx);
-        /* Level-0 bricks of this strip: rows [sy, sy + ry) cover whole
-         * brick rows because by_0 divides the strip (32 = by when bz = 8,
-         * bx = 64; otherwise bricks are written from a gathered copy). */
-        bool row_done = sy + ry >= brow0 + brow || sy + ry >= g0->ny;
-        if (brow % rows != 0 || (g0->by != brow && g0->by < g0->ny)) {
-            return fw_fail(gp, "vr: level-0 brick height %d does not match the %d-row strip",
-                           g0->by, rows);
-        } else if (row_done) {
-            for (int bz = zs[0] / g0->bz; bz * g0->bz < zs[0] + ts[0]; bz++)
-                for (int by = brow0 / g0->by; by * g0->by < brow0 + brow && by < g0->gy; by++)
-                    for (int bx = 0; bx < g0->gx; bx++) {
-                        /* view the strip as a level array starting at slice zs[0], row sy */
-                        const vr_level_geom_t *g = g0;
-                        uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 8u);
-                        if (!blk)
-                            return FW_ERROR;
-                        uint32_t *blkn = blk + VR_BRICK_VOXELS;
-                        bool any = vr_is_blend(s);
-                        for (int lz = 0; lz < g->bz; lz++)
-                            for (int ly = 0; ly < g->by; ly++)
-                                for (int lx = 0; lx < g->bx; lx++) {
-                                    int x = bx * g->bx + lx, y = by * g->by + ly,
-                                        z = bz * g->bz + lz;
-                                    size_t bi = ((size_t)lz * g->by + ly) * g->bx + lx;
-                                    if (x >= g->nx || y >= g->ny || z >= g->nz || y < brow0 ||
-                                        y >= brow0 + brow)
-                                        continue;
-                                    size_t si = ((size_t)(z - zs[0]) * brow + (y - brow0)) * g->nx + x;
-                                    blk[bi] = sqa[si];
-                                    if (sqn)
-                                        blkn[bi] = sqn[si];
-                                    any |= (sqa[si] >> 24) != 0;
-                                }
-                        ops.loads += VR_BRICK_VOXELS * 2u;
-                        ops.stores += VR_BRICK_VOXELS * 2u;
-                        ops.int_ops += VR_BRICK_VOXELS * 4u;
-                        charge_spans(gp, &ops, &sp);
-                        if (any) {
-                            int id = brick_id(s, 0, bx, by, bz);
-                            unsigned r = (unsigned)id % (unsigned)s->n_r;
-                            unsigned base = ((unsigned)id / (unsigned)s->n_r) * (unsigned)s->blocks_per_slot;
-                            uint32_t args[RING_MSG_ARGS] = {base, 0, 0, 0, 0, 0};
-                            if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS,
-                                        args, blk, VR_BRICK_VOXELS * 4u) != FW_OK)
-                                return FW_ERROR;
-                            if (sqn) {
-                                args[0] = base + 1;
-                                if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r),
-                                            RING_MSG_RENDERER_WRITE_BS, args, blkn,
-                                            VR_BRICK_VOXELS * 4u) != FW_OK)
-                                    return FW_ERROR;
-                            }
-                            vr_stat_add(gp, s, VR_STAT_SETUP_BRICKS, 1);
-                        }
-                        fw_free(gp, blk);
-                    }
-        }
-        /* Levels 1..K of this strip. */
-        const float *src = strip;
-        int srows = rows, sy_n = sy;
-        for (int n = 1; n <= K; n++) {
-            const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
-            int ny0 = sy_n / 2, nrows = (srows + 1) / 2;
-            if (n < K)
-                lrow0[n] = ny0;
-            for (int z = 0; z < ts[n]; z++)
-                for (int y = ny0; y < ny0 + nrows && y < g->ny; y++)
-                    for (int x = 0; x < g->nx; x++) {
-                        size_t i = ((size_t)z * g->ny + y) * g->nx + x;
-                        float *o = lvl[n] + (((size_t)z * lrows[n] + (y - lrow0[n])) * g->nx + x) * s->stride;
-                        /* children rows 2y, 2y+1 of the source strip/level */
-                        level_src_t from = n == 1 ? (level_src_t){src, gs->nx, gs->ny, gs->nz, zs[0], sy, rows}
-                                                  : (level_src_t){lvl[n - 1], gs->nx, gs->ny, gs->nz,
-                                                                  zs[n - 1], lrow0[n - 1], lrows[n - 1]};
-                        if (reduced_voxel(s, &from, x, y, zs[n] + z, o, &s->qa[n][i],
-                                          s->qn[n] ? &s->qn[n][i] : NULL, &sp))
-                            occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
-                    }
-            sy_n = ny0;
-            srows = nrows;
-        }
-        charge_spans(gp, &ops, &sp);
-    }
-    fw_free(gp, strip);
-    fw_free(gp, sqa);
-    if (sqn)
-        fw_free(gp, sqn);
-    /* Level-0 occupancy to GP 0. */
-    if (vr_send_gp(gp, 0, VR_MSG_OCC, 0, (uint32_t)zs[0], occ0, (occ0_count + 7) / 8) != FW_OK)
+            }
+    vr_stat_add(gp, s, VR_STAT_SETUP_VOXELS, (uint64_t)b->ts[0] * ry * g0->nx);
+}
+
+/* Sends level-0 brick (bx, by, bz) to its renderer from the brick-row
+ * stage, which holds rows [brow0, brow0 + brow) from slice zs[0] on (a
+ * send that fails returns at once, as it always did here). */
+static fw_status_t slab_write_level0_brick(gp_t *gp, vr_state_t *s, slab_build_t *b, int bx,
+                                           int by, int bz, int brow0)
+{
+    uint32_t *blk = fw_alloc(gp, VR_BRICK_VOXELS * 8u);
+    if (!blk)
         return FW_ERROR;
-    fw_free(gp, occ0);
-    /* Levels 1..K: bricks, occupancy; level K floats to GP 0. */
+    uint32_t *blkn = blk + VR_BRICK_VOXELS;
+    const brick_src_t src = {b->sqa, b->sqn, b->zs[0], brow0, b->brow};
+    if (gather_brick(gp, s, 0, bx, by, bz, &src, blk, blkn, &b->ops, &b->sp)) {
+        int id = brick_id(s, 0, bx, by, bz);
+        unsigned r = (unsigned)id % (unsigned)s->n_r;
+        unsigned base = ((unsigned)id / (unsigned)s->n_r) * (unsigned)s->blocks_per_slot;
+        uint32_t args[RING_MSG_ARGS] = {base, 0, 0, 0, 0, 0};
+        if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS, args, blk,
+                    VR_BRICK_VOXELS * 4u) != FW_OK)
+            return FW_ERROR;
+        if (b->sqn) {
+            args[0] = base + 1;
+            if (fw_send(gp, ring_addr(RING_NODE_RENDERER, r), RING_MSG_RENDERER_WRITE_BS, args,
+                        blkn, VR_BRICK_VOXELS * 4u) != FW_OK)
+                return FW_ERROR;
+        }
+        vr_stat_add(gp, s, VR_STAT_SETUP_BRICKS, 1);
+    }
+    fw_free(gp, blk);
+    return FW_OK;
+}
+
+/* Every level-0 brick of the completed brick row starting at row brow0,
+ * over the slab's slices. */
+static fw_status_t slab_write_level0_brick_row(gp_t *gp, vr_state_t *s, slab_build_t *b,
+                                               int brow0)
+{
+    const vr_level_geom_t *g0 = &s->geom[0];
+    for (int bz = b->zs[0] / g0->bz; bz * g0->bz < b->zs[0] + b->ts[0]; bz++)
+        for (int by = brow0 / g0->by; by * g0->by < brow0 + b->brow && by < g0->gy; by++)
+            for (int bx = 0; bx < g0->gx; bx++)
+                if (slab_write_level0_brick(gp, s, b, bx, by, bz, brow0) != FW_OK)
+                    return FW_ERROR;
+    return FW_OK;
+}
+
+/* Levels 1..K of the strip starting at level-0 row sy, each reduced from
+ * the one below (level 1 from the strip): floats, words, occupancy bits. */
+static void slab_reduce_strip_levels(vr_state_t *s, slab_build_t *b, int sy)
+{
+    const float *src = b->strip;
+    int srows = b->rows, sy_n = sy;
+    for (int n = 1; n <= b->K; n++) {
+        const vr_level_geom_t *g = &s->geom[n], *gs = &s->geom[n - 1];
+        int ny0 = sy_n / 2, nrows = (srows + 1) / 2;
+        if (n < b->K)
+            b->lrow0[n] = ny0;
+        for (int z = 0; z < b->ts[n]; z++)
+            for (int y = ny0; y < ny0 + nrows && y < g->ny; y++)
+                for (int x = 0; x < g->nx; x++) {
+                    size_t i = ((size_t)z * g->ny + y) * g->nx + x;
+                    float *o = b->lvl[n] +
+                               (((size_t)z * b->lrows[n] + (y - b->lrow0[n])) * g->nx + x) * s->stride;
+                    /* children rows 2y, 2y+1 of the source strip/level */
+                    level_src_t from = n == 1 ? (level_src_t){src, gs->nx, gs->ny, gs->nz, b->zs[0],
+                                                              sy, b->rows}
+                                              : (level_src_t){b->lvl[n - 1], gs->nx, gs->ny, gs->nz,
+                                                              b->zs[n - 1], b->lrow0[n - 1],
+                                                              b->lrows[n - 1]};
+                    if (reduced_voxel(s, &from, x, y, b->zs[n] + z, o, &s->qa[n][i],
+                                      s->qn[n] ? &s->qn[n][i] : NULL, &b->sp))
+                        b->occb[n][i >> 3] |= (uint8_t)(1u << (i & 7));
+                }
+        sy_n = ny0;
+        srows = nrows;
+    }
+}
+
+/* After the last strip: level-0 occupancy to GP 0; levels 1..K's bricks to
+ * the renderers' backing store and their occupancy to GP 0; level K's
+ * floats to GP 0 (it builds the levels above). */
+static fw_status_t slab_send_levels(gp_t *gp, vr_state_t *s, slab_build_t *b)
+{
+    int K = b->K;
+    if (vr_send_gp(gp, 0, VR_MSG_OCC, 0, (uint32_t)b->zs[0], b->occ0, (b->occ0_count + 7) / 8) !=
+        FW_OK)
+        return FW_ERROR;
+    fw_free(gp, b->occ0);
     for (int n = 1; n <= K; n++) {
         const vr_level_geom_t *g = &s->geom[n];
-        if (ts[n] > 0) {
-            for (int bz = zs[n] / g->bz; bz * g->bz < zs[n] + ts[n]; bz++)
+        if (b->ts[n] > 0) {
+            for (int bz = b->zs[n] / g->bz; bz * g->bz < b->zs[n] + b->ts[n]; bz++)
                 for (int by = 0; by < g->gy; by++)
                     for (int bx = 0; bx < g->gx; bx++)
-                        if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], zs[n], &ops, &sp) != FW_OK)
+                        if (write_brick(gp, s, n, bx, by, bz, s->qa[n], s->qn[n], b->zs[n], &b->ops,
+                                        &b->sp) != FW_OK)
                             return FW_ERROR;
-            if (vr_send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)zs[n], occb[n],
-                        (level_voxels(g, ts[n]) + 7) / 8) != FW_OK)
+            if (vr_send_gp(gp, 0, VR_MSG_OCC, (uint32_t)n, (uint32_t)b->zs[n], b->occb[n],
+                           (level_voxels(g, b->ts[n]) + 7) / 8) != FW_OK)
                 return FW_ERROR;
         }
         fw_free(gp, s->qa[n]);
@@ -307,17 +358,53 @@ static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
             fw_free(gp, s->qn[n]);
         s->qa[n] = s->qn[n] = NULL;
     }
-    if (ts[K] > 0 && K + 1 < c->levels) {
-        size_t cnt = level_voxels(&s->geom[K], ts[K]);
-        if (vr_send_gp(gp, 0, VR_MSG_LEVELK, (uint32_t)zs[K], (uint32_t)ts[K], lvl[K],
-                    cnt * (size_t)s->stride * sizeof(float)) != FW_OK)
+    if (b->ts[K] > 0 && K + 1 < s->cfg.levels) {
+        size_t cnt = level_voxels(&s->geom[K], b->ts[K]);
+        if (vr_send_gp(gp, 0, VR_MSG_LEVELK, (uint32_t)b->zs[K], (uint32_t)b->ts[K], b->lvl[K],
+                       cnt * (size_t)s->stride * sizeof(float)) != FW_OK)
             return FW_ERROR;
     }
     for (int n = 1; n <= K; n++) {
-        fw_free(gp, lvl[n]);
-        fw_free(gp, occb[n]);
+        fw_free(gp, b->lvl[n]);
+        fw_free(gp, b->occb[n]);
     }
     return FW_OK;
+}
+
+/* Builds this GP's slab: level 0 strip by strip, levels 1..K from each
+ * strip, bricks written to the renderers as soon as they are complete. */
+static fw_status_t build_slab(gp_t *gp, vr_state_t *s)
+{
+    slab_build_t b;
+    memset(&b, 0, sizeof b);
+    b.K = s->cfg.slab_k;
+    b.mem = (vr_mem_t){gp, &b.ops};
+    slab_levels_extent(s, &b);
+    slab_strip_shape(s, &b);
+    if (slab_alloc_coarse_levels(gp, s, &b) != FW_OK || slab_alloc_level0(gp, s, &b) != FW_OK)
+        return FW_ERROR;
+    const vr_level_geom_t *g0 = &s->geom[0];
+    for (int sy = 0; sy < g0->ny; sy += b.rows) {
+        int ry = g0->ny - sy < b.rows ? g0->ny - sy : b.rows;
+        int brow0 = (sy / b.brow) * b.brow;
+        slab_build_level0_rows(gp, s, &b, sy, ry, brow0);
+        /* Level-0 bricks of this strip: rows [sy, sy + ry) cover whole
+         * brick rows because by_0 divides the strip (32 = by when bz = 8,
+         * bx = 64; otherwise bricks are written from a gathered copy). */
+        bool row_done = sy + ry >= brow0 + b.brow || sy + ry >= g0->ny;
+        if (b.brow % b.rows != 0 || (g0->by != b.brow && g0->by < g0->ny))
+            return fw_fail(gp, "vr: level-0 brick height %d does not match the %d-row strip",
+                           g0->by, b.rows);
+        if (row_done && slab_write_level0_brick_row(gp, s, &b, brow0) != FW_OK)
+            return FW_ERROR;
+        slab_reduce_strip_levels(s, &b, sy);
+        charge_spans(gp, &b.ops, &b.sp);
+    }
+    fw_free(gp, b.strip);
+    fw_free(gp, b.sqa);
+    if (b.sqn)
+        fw_free(gp, b.sqn);
+    return slab_send_levels(gp, s, &b);
 }
 
 /* GP 0, once every level-K slab arrived: levels K+1..top, their bricks and
