@@ -194,10 +194,10 @@ TEST(mesh_cli_render_scene_writes_image_and_report_and_refuses_cleanly)
     free(text);
     snprintf(args, sizeof args, "render --mesh gen:torus --size 64x48 --mode full --out %s", png);
     CHECK_EQ(pp5_test_run_cli(args, out, err), 0);
-    /* --machine with a mesh, a broken scene, a bad shading: one line, non-zero */
+    /* both inputs, a broken scene, a bad shading: one line, non-zero */
     const char *bad_scene = write_text(dir, "cli_bad.scene", "mesh gen:sphere\nwobble\n");
     const char *cases[][2] = {
-        {"render --machine --mesh gen:torus", "--machine"},
+        {"render --mesh gen:torus --scene %s", "give one of them"},
         {"render --scene %s", "cli_bad.scene:2:"},
         {"render --mesh gen:torus --shading toon", "--shading"},
     };
@@ -256,4 +256,42 @@ TEST(mesh_lod_budget_matches_the_hand_value)
     CHECK_EQ(level, 0);
     CHECK_EQ(faces, 760);
     mesh_scene_free(&s);
+}
+
+TEST(mesh_render_on_the_machine_covers_what_the_native_frame_covers)
+{
+    /* `render --machine --mesh`: the polygon pipeline's frame, its report,
+     * and the same coverage as the native frame of the same triangles up to
+     * edge pixels (the machine snaps corners to 1/16 pixel: at most 1 % of
+     * the covered pixels may be drawn by one image only). */
+    const char *dir = pp5_test_outdir();
+    char png[1200], rep[1200], out[1200], err[1200], args[4000];
+    snprintf(png, sizeof png, "%s/m.png", dir);
+    snprintf(rep, sizeof rep, "%s/m.json", dir);
+    snprintf(out, sizeof out, "%s/out.txt", dir);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(args, sizeof args, "render --machine --mesh gen:torus --size 96x64 --mode full "
+             "--shading gouraud --out %s --report %s", png, rep);
+    REQUIRE(pp5_test_run_cli(args, out, err) == 0);
+    image8_t img;
+    REQUIRE(png_read(png, &img, 3) == PP5_OK);
+    CHECK(img.width == 96 && img.height == 64);
+    image8_free(&img);
+    char *text = pp5_test_read_file(rep);
+    REQUIRE(text);
+    long covered = -1, one_only = -1;
+    const char *a = strstr(text, "\"pixels_covered_native\":");
+    const char *b = strstr(text, "\"pixels_covered_by_one_only\":");
+    REQUIRE(a && b);
+    covered = strtol(strchr(a, ':') + 1, NULL, 10);
+    one_only = strtol(strchr(b, ':') + 1, NULL, 10);
+    CHECK_MSG(covered > 500, "the torus covers %ld pixels", covered);
+    CHECK_MSG(one_only >= 0 && one_only * 100 <= covered, "%ld of %ld pixels drawn by one image",
+              one_only, covered);
+    CHECK(strstr(text, "\"triangles\": 2304") != NULL);   /* gen:torus, 48 x 24 x 2 */
+    free(text);
+    text = pp5_test_read_file(out);
+    REQUIRE(text);
+    CHECK(strstr(text, "bottleneck") != NULL);
+    free(text);
 }

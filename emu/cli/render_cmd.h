@@ -13,6 +13,8 @@
 #include "firmware/host/fw_session.h"
 #include "params.h"
 #include "render/mesh/mesh_raster.h"
+#include "render/mesh/mesh_render.h"
+#include "render/mesh/mesh_scene.h"
 #include "render/render_job.h"
 
 typedef struct {
@@ -46,5 +48,10 @@ pp5_status_t render_machine_run(const render_cmd_t *c, const render_job_t *job, 
 /* --mesh / --scene natively: full or gaze-directed, PNG, report, and with
  * --compare the savings of LOD, VRZ and both with their image quality. */
 pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log);
+/* The same frame's triangle list on the emulated machine (render_mesh_machine.c);
+ * `native` is the native frame of that list, the image size and the reference. */
+pp5_status_t render_mesh_machine(const render_cmd_t *c, const char *scene_name,
+                                 const mesh_soup_t *list, const raster_camera_t *cam,
+                                 const mesh_render_opts_t *opts, const image8_t *native, FILE *log);
 
 #endif

@@ -239,11 +239,23 @@ static pp5_status_t setup(mesh_run_t *r, const render_cmd_t *c)
     return PP5_OK;
 }
 
+/* --machine: the frame's triangle list (the levels of detail when
+ * gaze-directed: the machine has no variable-resolution Z-buffer) on the
+ * emulated machine, against the native frame of the same list. */
+static pp5_status_t run_machine(mesh_run_t *r, bool gaze, const mesh_soup_t *full,
+                                const mesh_soup_t *lod, FILE *log)
+{
+    const mesh_soup_t *list = gaze && lod->n_tris > 0 ? lod : full;
+    int k = gaze ? V_LOD : V_FULL;
+    pp5_status_t st = r->v[k].done ? PP5_OK : render_variant(r, k, full, list);
+    if (st != PP5_OK)
+        return st;
+    fprintf(log, "on the emulated machine: %s (%d triangles)\n", r->v[k].what, list->n_tris);
+    return render_mesh_machine(r->c, r->scene.source, list, &r->cam, &r->opts, &r->v[k].img, log);
+}
+
 pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log)
 {
-    if (c->machine)
-        return pp5_fail(PP5_E_CONFIG, "--machine: the machine's polygon pipeline does not take "
-                        "--mesh/--scene yet; drop --machine for the native renderer");
     if (c->mesh_file && c->scene_file)
         return pp5_fail(PP5_E_CONFIG, "--mesh and --scene: give one of them");
     pp5_status_t st = outpath_check_all("--out", c->out_png, "--report", c->report_json, NULL);
@@ -272,9 +284,11 @@ pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log)
                 r.gaze_x, r.gaze_y);
         print_table(&r, log);
     }
-    if (st == PP5_OK && c->out_png)
+    if (st == PP5_OK && c->machine)
+        st = run_machine(&r, gaze, &full, &lod, log);
+    else if (st == PP5_OK && c->out_png)
         st = png_write(c->out_png, &r.v[shown].img);
-    if (st == PP5_OK && c->report_json)
+    if (st == PP5_OK && c->report_json && !c->machine)
         st = write_report(&r, c->report_json, shown);
     for (int k = 0; k < N_VARIANTS; k++)
         image8_free(&r.v[k].img);
