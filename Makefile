@@ -302,13 +302,14 @@ $(BUILD)/fuzzers/fuzz_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/common
 # partially linked into one object (ld -r resolves what they call in each
 # other); every symbol it still needs must be a function declared in a header
 # under emu/api/ (listed from GCC's -aux-info) or come from the C runtime
-# (libc, libm, libgcc; the sanitizer runtimes under SAN=1).  Anything else,
+# (libc, libm, libgcc; the sanitizer runtimes under SAN=1 and SAN=thread).  Anything else,
 # such as machine_send or a render/ function declared by hand, stops the
 # build with one line naming the symbol and the object that needs it.  `make
 # test` also shows that a probe doing exactly that is rejected.
 FW_PROBE     := tests/fixtures/boundary/gp_calls_machine_send.c
 RUNTIME_LIBS := libc.so.6 libm.so.6 libmvec.so.1 libgcc_s.so.1 \
-                $(if $(filter 1,$(SAN)),libasan.so libubsan.so)
+                $(if $(filter 1,$(SAN)),libasan.so libubsan.so) \
+                $(if $(filter thread,$(SAN)),libtsan.so)
 API_HEADERS  := $(sort $(wildcard emu/api/*.h))
 
 $(FW_CHECK)/api-symbols.txt: $(API_HEADERS) $(GEN)/cflags.stamp

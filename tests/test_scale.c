@@ -375,7 +375,7 @@ TEST(scale_launcher_variables_without_mpi_refuse_and_pp5_mpi_0_runs_plainly)
     if (!PP5_HAVE_MPI) {
         snprintf(args, sizeof args, "OMPI_COMM_WORLD_RANK=0 %s " GRID " --out %s 2>%s",
                  bin(), pcsv, err);
-        CHECK_EQ(run_shell(args), 1);
+        CHECK_EQ(run_shell(args), PP5_EXIT_UNSUPPORTED);   /* not built in */
         char *e = pp5_test_read_file(err);
         CHECK(e && strstr(e, "built without MPI"));
         free(e);
