@@ -27,7 +27,7 @@ MPI     ?= auto
 
 # Debian packages: what each is for is in README.md ("Dependencies").
 # Debian's libniftiio-dev ships nifti1_io.h but not the nifti1.h it includes:
-# that header comes with libnifti2-dev.  `.ci/header-packages` checks that every
+# that header comes with libnifti2-dev.  `make deps-audit` checks that every
 # system header the build includes belongs to one of these or their dependencies.
 DEB_PKGS := gcc libc6-dev make pkg-config libpng-dev zlib1g-dev libteem-dev \
             libniftiio-dev libnifti2-dev libhidapi-dev libusb-1.0-0-dev \
