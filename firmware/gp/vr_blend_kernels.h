@@ -112,13 +112,8 @@ static inline float vr_value_trilerp(const vr_state_t *s, int n, const float p[3
 static inline float vr_value_material(const vr_state_t *s, float level3d, const float p[3],
                                       const vr_mem_t *mem, vr_spans_t *sp, vr_count_t *cnt)
 {
-    float top = (float)(s->cfg.levels - 1);
-    if (level3d < 0.0f)
-        level3d = 0.0f;
-    if (level3d > top)
-        level3d = top;
-    int lo = (int)level3d;
-    float t = level3d - (float)lo;
+    int lo;
+    float t = vr_level_split(s, level3d, &lo);
     /* the clamp (2 compares), the conversions, t; the blend test (compare,
      * lo + 1 against the levels) */
     VR_SPAN(sp, cnt, VALUE_POINT, .fadd = 2 + 1 + 1, .branches = 2 + 2, .int_ops = 2 + 2);

@@ -205,18 +205,27 @@ static inline void vr_trilerp(const vr_state_t *s, int n, const float p[3], floa
     VR_COUNT(cnt, TRILERP, .fadd = 28 * 2, .fmul = 28);   /* 7 lerps x 4 components */
 }
 
-/* The sample at p between 3D levels (raycast.c's sample): one or two
- * trilinear lookups.  Spans POINT (+ TRILERP, LEVEL_BLEND). */
-static inline void vr_sample3d(const vr_state_t *s, float level3d, const float p[3], float *out,
-                               const vr_mem_t *mem, vr_spans_t *sp, vr_count_t *cnt)
+/* A 3D level between the mip map's levels, clamped to them: the level
+ * below (*lo) and the weight of the one above (the caller charges the
+ * clamp, the conversion and t in its POINT span). */
+static inline float vr_level_split(const vr_state_t *s, float level3d, int *lo)
 {
     float top = (float)(s->cfg.levels - 1);
     if (level3d < 0.0f)
         level3d = 0.0f;
     if (level3d > top)
         level3d = top;
-    int lo = (int)level3d;
-    float t = level3d - (float)lo;
+    *lo = (int)level3d;
+    return level3d - (float)*lo;
+}
+
+/* The sample at p between 3D levels (raycast.c's sample): one or two
+ * trilinear lookups.  Spans POINT (+ TRILERP, LEVEL_BLEND). */
+static inline void vr_sample3d(const vr_state_t *s, float level3d, const float p[3], float *out,
+                               const vr_mem_t *mem, vr_spans_t *sp, vr_count_t *cnt)
+{
+    int lo;
+    float t = vr_level_split(s, level3d, &lo);
     /* the clamp (2 compares), the conversions, t; the blend test (compare, lo
      * + 1 against the levels) */
     VR_SPAN(sp, cnt, POINT, .fadd = 2 + 1 + 1, .branches = 2 + 2, .int_ops = 2 + 2);
