@@ -291,7 +291,7 @@ TEST(fw_poly_qee_edges_exact_on_large_and_negative_coordinates)
         pp_stream_t st;
         pp_stream_init(&st);
         poly_region_start(&c, true, &st, NULL, NULL);
-        bool some = poly_encode(&c, &t, origins[o][0], origins[o][1], &st, NULL, NULL);
+        bool some = poly_encode(&c, &t, 0, origins[o][0], origins[o][1], &st, NULL, NULL);
         REQUIRE(pp_stream_ok(&st));
         renderer_reset(&r);
         renderer_set_region(&r, origins[o][0], origins[o][1]);

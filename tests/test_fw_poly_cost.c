@@ -13,9 +13,10 @@
 #include <string.h>
 
 #include "firmware/common/poly_phong_pp.h"
-#include "firmware/gp/poly_kernels.h"
+#include "firmware/gp/poly_vrz_kernels.h"
 #include "firmware/host/poly_session.h"
 #include "harness.h"
+#include "render/gaze2d.h"
 #include "render/mesh/mesh_gen.h"
 
 static void row_columns(const vr_cost_row_t *r, uint64_t v[9])
@@ -85,6 +86,84 @@ static poly_tri_in_t *cost_scene(size_t *n, int W)
     return t;
 }
 
+/* The gaze-directed frame's kernels (poly_vrz_kernels.h) on the set-up
+ * triangles tri[0..nt) of configuration c: the plan, the sort into level
+ * tiles, every (triangle, level tile) stream, the box requests, the texel
+ * rows and RenderPixel of the band, counted into the caller's sp and cnt. */
+static void vrz_kernels(const poly_config_t *c, const poly_tri_t *tri, size_t nt, poly_spans_t *sp,
+                        poly_count_t *cnt, pp_stream_t *st)
+{
+    poly_state_t *s = calloc(1, sizeof *s);
+    REQUIRE(s != NULL);
+    s->cfg = *c;
+    s->levels = c->levels2d;
+    poly_levels_setup(s);
+    size_t n = (size_t)s->n_tiles;
+    s->slot_of = calloc(n, sizeof *s->slot_of), s->reg = calloc(n, sizeof *s->reg);
+    s->count = calloc(n, 4), s->start = calloc(n, 4), s->fill = calloc(n, 4);
+    REQUIRE(s->slot_of && s->reg && s->count && s->start && s->fill);
+    for (int l = 0; l < s->levels; l++)
+        for (int ty = 0; ty < s->tiles_y[l]; ty++)
+            for (int tx = 0; tx < s->tiles_x[l]; tx++)
+                poly_plan_tile(s, l, tx, ty, cnt);
+    s->y0 = 0, s->y1 = c->height;
+    s->level = calloc((size_t)c->width * (size_t)c->height, sizeof *s->level);
+    REQUIRE(s->level != NULL);
+    for (int l = 0; l < s->levels; l++) {
+        poly_band_texel_rows(s, s->y0, s->y1, l, &s->jlo[l], &s->jhi[l]);
+        s->texel[l] = calloc((size_t)(s->jhi[l] - s->jlo[l] + 1) * (size_t)s->tw[l], 4);
+        REQUIRE(s->texel[l] != NULL);
+    }
+    for (int k = 0; k < s->n_regions; k++)
+        (void)poly_expect_region(s, k, cnt);
+    for (int y = 0; y < c->height; y++)
+        for (int x = 0; x < c->width; x++)
+            poly_band_level(s, x, y, cnt);
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t i = 0; i < nt; i++) {
+            poly_box_t b = poly_tri_box(&tri[i], &s->sp, cnt);
+            for (int l = 0; l < s->levels; l++) {
+                int t[4];
+                if (poly_level_tiles(s, &b, l, t, &s->sp, cnt))
+                    for (int ty = t[2]; ty <= t[3]; ty++)
+                        for (int tx = t[0]; tx <= t[1]; tx++)
+                            poly_sort_tile(s, l, tx, ty, (uint32_t)i, pass == 1, cnt);
+            }
+        }
+        if (pass == 0) {
+            uint32_t pairs = poly_bin_prefix(s->count, s->start, s->fill, s->n_regions, &s->sp, cnt);
+            s->list = calloc(pairs + 1, sizeof *s->list);
+            REQUIRE(s->list != NULL);
+        }
+    }
+    int n_planes = c->shading == POLY_FLAT ? 1 : 4;
+    for (int k = 0; k < s->n_regions; k++) {
+        const poly_region_t *r = &s->reg[k];
+        for (uint32_t i = 0; i < s->fill[k]; i++) {
+            poly_tri_t on = tri[s->list[s->start[k] + i]];
+            if (r->level > 0)
+                poly_tri_on_level(&tri[s->list[s->start[k] + i]], r->level, n_planes, &on, &s->sp, cnt);
+            poly_encode(c, &on, r->level, r->x, r->y, st, &s->sp, cnt);
+        }
+        uint32_t args[6];
+        for (unsigned h = 0; h < 3; h++)
+            if (poly_box_request(s, h, 3, k, 0, args, cnt))
+                (void)poly_texel_row_at(s, k, s->reg[k].y + (int)(args[4] >> 16), cnt);
+    }
+    uint8_t px[3];
+    for (int y = 0; y < c->height; y += 7)
+        for (int x = 0; x < c->width; x += 3)
+            poly_render_pixel(s, x, y, px, &s->sp, cnt);
+    poly_section_sent(&s->sp, cnt);
+    for (int i = 0; i < POLY_ROW_COUNT; i++)
+        sp->n[i] += s->sp.n[i];
+    for (int l = 0; l < s->levels; l++)
+        free(s->texel[l]);
+    free(s->level), free(s->list), free(s->slot_of), free(s->reg);
+    free(s->count), free(s->start), free(s->fill);
+    free(s);
+}
+
 TEST(fw_poly_cost_rows_match_their_kernels)
 {
     const int W = 256;
@@ -103,6 +182,11 @@ TEST(fw_poly_cost_rows_match_their_kernels)
         poly_options_t o;
         poly_options_default(&o);
         o.shading = (poly_shading_t)sh;
+        gaze_display_t gd;
+        gaze_display_defaults(&gd);
+        REQUIRE(gaze_model_init(&o.gaze_model, &gd, W, W) == PP5_OK);
+        o.gaze = true;
+        o.gaze_x = 0.3 * W, o.gaze_y = 0.6 * W;
         poly_session_t s;
         REQUIRE_MSG(poly_session_init(&s, &p, in, 1, W, W, &cam, &style, &o) == PP5_OK, "%s",
                     pp5_error_text());
@@ -130,8 +214,9 @@ TEST(fw_poly_cost_rows_match_their_kernels)
         for (int k = 0; k < nr; k++) {
             poly_region_start(&c, k % 2 == 0, &st, &sp, cnt);
             for (uint32_t i = 0; i < fill[k]; i++)
-                poly_encode(&c, &tri[list[start[k] + i]], (k % rx) * 128, (k / rx) * 128, &st, &sp, cnt);
+                poly_encode(&c, &tri[list[start[k] + i]], 0, (k % rx) * 128, (k / rx) * 128, &st, &sp, cnt);
         }
+        vrz_kernels(&c, tri, nt, &sp, cnt, &st);
         size_t w0 = st.n_words;
         poly_phong_stream(&st, c.light, c.ambient, c.diffuse, c.front_rgb, c.back_rgb);
         poly_words(st.n_words - w0, &sp, cnt);

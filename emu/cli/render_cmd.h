@@ -48,10 +48,25 @@ pp5_status_t render_machine_run(const render_cmd_t *c, const render_job_t *job, 
 /* --mesh / --scene natively: full or gaze-directed, PNG, report, and with
  * --compare the savings of LOD, VRZ and both with their image quality. */
 pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log);
-/* The same frame's triangle list on the emulated machine (render_mesh_machine.c);
- * `native` is the native frame of that list, the image size and the reference. */
-pp5_status_t render_mesh_machine(const render_cmd_t *c, const char *scene_name,
-                                 const mesh_soup_t *list, const raster_camera_t *cam,
-                                 const mesh_render_opts_t *opts, const image8_t *native, FILE *log);
+/* A polygon frame as render_mesh.c made it natively: the triangle lists at
+ * full detail and at the chosen levels of detail (lod == full when every
+ * object keeps full detail), the view, and the native image of the frame
+ * the machine repeats (gaze-directed: LOD + VRZ; else full, full res). */
+typedef struct {
+    const char *scene_name;
+    const mesh_soup_t *full, *lod;
+    const raster_camera_t *cam;
+    const mesh_render_opts_t *opts;
+    const gaze_model_t *gaze;
+    double gaze_x, gaze_y;
+    int width, height;
+    bool gaze_directed;
+    const image8_t *native;
+} render_mesh_frame_t;
+
+/* The frame on the emulated machine (render_mesh_machine.c), its report and
+ * its agreement with the native image; --compare with --mode gaze adds the
+ * machine's savings table. */
+pp5_status_t render_mesh_machine(const render_cmd_t *c, const render_mesh_frame_t *f, FILE *log);
 
 #endif

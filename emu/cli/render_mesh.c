@@ -239,19 +239,21 @@ static pp5_status_t setup(mesh_run_t *r, const render_cmd_t *c)
     return PP5_OK;
 }
 
-/* --machine: the frame's triangle list (the levels of detail when
- * gaze-directed: the machine has no variable-resolution Z-buffer) on the
- * emulated machine, against the native frame of the same list. */
+/* --machine: the frame again on the emulated machine (gaze-directed: the
+ * levels of detail into its variable-resolution Z-buffer), against the
+ * native frame of the same list. */
 static pp5_status_t run_machine(mesh_run_t *r, bool gaze, const mesh_soup_t *full,
                                 const mesh_soup_t *lod, FILE *log)
 {
     const mesh_soup_t *list = gaze && lod->n_tris > 0 ? lod : full;
-    int k = gaze ? V_LOD : V_FULL;
+    int k = gaze ? V_BOTH : V_FULL;
     pp5_status_t st = r->v[k].done ? PP5_OK : render_variant(r, k, full, list);
     if (st != PP5_OK)
         return st;
     fprintf(log, "on the emulated machine: %s (%d triangles)\n", r->v[k].what, list->n_tris);
-    return render_mesh_machine(r->c, r->scene.source, list, &r->cam, &r->opts, &r->v[k].img, log);
+    render_mesh_frame_t f = {r->scene.source, full, list, &r->cam, &r->opts, &r->g,
+                             r->gaze_x, r->gaze_y, r->width, r->height, gaze, &r->v[k].img};
+    return render_mesh_machine(r->c, &f, log);
 }
 
 pp5_status_t render_mesh_run(const render_cmd_t *c, FILE *log)

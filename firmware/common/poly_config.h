@@ -76,6 +76,17 @@ typedef struct {
     float ambient, diffuse;
     int32_t front_rgb[3], back_rgb[3];
     uint32_t background_rgb[3];
+    /* Gaze-directed frames: the variable-resolution Z-buffer of the gaze
+     * paper's §7 (seed 004; firmware/ARCHITECTURE.md "Polygons").  The
+     * acuity model's constants are render/gaze2d.h gaze_model_t's, from the
+     * host, as vr_config_t's g_* (the same 2DLevel, vr_gaze_level). */
+    int32_t gaze;                   /* 0: full resolution; 1: the populated levels only */
+    int32_t levels2d;               /* 2D levels, 1..POLY_MAX_LEVELS */
+    double gaze_x, gaze_y;          /* the gaze point, image pixels (set per frame) */
+    double g_inches_per_px, g_view_distance_in, g_e_full_deg, g_e_edge_deg, g_sigma_deg,
+        g_rho_min, g_r_zero_px, g_r_max_px;
+    int32_t g_max_level;
+    float g_level_far;              /* 2DLevel past g_r_max_px (gaze_model_t level_edge) */
 } poly_config_t;
 
 /* One input triangle (world space): corners and their unit normals. */
@@ -96,6 +107,7 @@ enum {
 extern const fw_program_t poly_program;
 
 #define POLY_MAX_GPS 64
+#define POLY_MAX_LEVELS 8            /* render/gaze2d.h MIP2D_MAX_LEVELS */
 #define POLY_MAX_RENDERERS 64
 
 #endif

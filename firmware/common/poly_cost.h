@@ -70,7 +70,26 @@
     X(ENC_FLAT, (.loads = 1), "flat: the colour sent") \
     X(ENC_CHANNEL, (.int_ops = 1, .branches = 2), "a colour or normal channel sent") \
     X(ENC_PHONG_FLAGS, (.loads = 1), "Phong: the covered and back bits sent") \
-    X(ENC_WORD, (.int_ops = 2, .stores = 1), "a word of a PP stream assembled and stored")
+    X(ENC_WORD, (.int_ops = 2, .stores = 1), "a word of a PP stream assembled and stored") \
+    /* ---- gaze-directed frames: the variable-resolution Z-buffer ---- */ \
+    X(VRZ_LEVEL_FAR, (.fadd = 2, .branches = 2), "2DLevel: the periphery test (gaze_level's own value past it)") \
+    X(VRZ_TILE, (.int_ops = 24, .loads = 4, .branches = 12), "plan: a level tile's texels and the pixels that read them") \
+    X(VRZ_TILE_LEVELS, (.int_ops = 6, .fadd = 24, .fmul = 4, .fsqrt = 2, .loads = 2, .branches = 6), "plan: a tile's nearest and farthest 2DLevel, the populated test") \
+    X(VRZ_SLOT, (.stores = 4, .int_ops = 3, .branches = 1), "plan: a tile's region slot (or none)") \
+    X(VRZ_TRI, (.loads = 6, .int_ops = 8, .branches = 8), "sort: a triangle's snapped box") \
+    X(VRZ_LEVEL_BOX, (.int_ops = 28, .loads = 2, .branches = 6), "sort: a triangle's tiles on one level") \
+    X(VRZ_BIN_TILE, (.int_ops = 4, .loads = 1, .load_use = 1, .branches = 2), "sort: a tile of the box, its slot looked up") \
+    X(ENC_LEVEL, (.loads = 16, .stores = 16, .fadd = 4, .fmul = 2), "a triangle on a coarse level: the record, corner 0") \
+    X(ENC_LEVEL_PLANE, (.loads = 2, .fmul = 2, .stores = 2), "a triangle on a coarse level: a plane's gradients") \
+    X(ENC_LEVEL_EDGE, (.fmul = 2, .int_ops = 3, .branches = 1), "an edge on a coarse level: floor(F / 2^l)") \
+    X(VRZ_BAND_PIXEL, (.int_ops = 4, .fadd = 3, .fmul = 2, .fsqrt = 1, .stores = 1, .branches = 1), "resample: a pixel's distance from the gaze and its 2DLevel stored") \
+    X(VRZ_EXPECT, (.loads = 3, .int_ops = 6, .branches = 3), "a region's texel rows this GP reads (counted once per region)") \
+    X(VRZ_BOX, (.loads = 3, .int_ops = 14, .stores = 6, .branches = 3), "the last GP: a GP's texel box of a region requested") \
+    X(VRZ_TEXEL_ROW, (.loads = 2, .int_ops = 6, .branches = 1), "resample: a received texel row's place") \
+    X(VRZ_BILERP, (.int_ops = 50, .fmul = 23, .fadd = 20, .loads = 8, .branches = 4), "resample: bilinear lookup in one level") \
+    X(VRZ_PIXEL_BLEND, (.fadd = 6, .fmul = 3), "resample: a pixel between two levels") \
+    X(VRZ_PIXEL, (.int_ops = 12, .loads = 1, .load_use = 1, .branches = 10, .fadd = 11, .fmul = 3, .stores = 3), "resample: a pixel (RenderPixel)") \
+    X(VRZ_SECTION, (.int_ops = 8, .stores = 6, .branches = 2), "resample: a section of the band sent to the frame buffer")
 
 enum {
 #define POLY_COST_ROW_ID(ID, ROW, WHAT) POLY_ROW_##ID,
@@ -96,6 +115,9 @@ typedef struct {
 typedef struct {
     fw_ops_t row[POLY_ROW_COUNT];
 } poly_count_t;
+
+/* Production's operation count: none (a typed NULL for the macros). */
+#define POLY_NO_COUNT ((poly_count_t *)NULL)
 
 /* A span of row ID ran once (and states its operations). */
 #define POLY_SPAN(sp, cnt, ID, ...) POLY_SPANS(sp, cnt, ID, 1, __VA_ARGS__)

@@ -18,6 +18,10 @@
     X(CYC_TRANSFORM, "cycles_transform", FW_STAT_COUNTER, "i860 cycles", "transform, light, clip, project, set-up") \
     X(CYC_SORT, "cycles_sort", FW_STAT_COUNTER, "i860 cycles", "sorting into regions")            \
     X(CYC_ENCODE, "cycles_encode", FW_STAT_COUNTER, "i860 cycles", "the PP streams of regions")  \
+    X(CYC_LEVELS, "cycles_levels", FW_STAT_COUNTER, "i860 cycles", "gaze: the populated regions and the band's 2DLevels") \
+    X(CYC_RESAMPLE, "cycles_resample", FW_STAT_COUNTER, "i860 cycles", "gaze: texels placed, RenderPixel of the band") \
+    X(REGIONS_PLANNED, "regions_planned", FW_STAT_COUNTER, "count", "gaze: populated level tiles planned (every GP plans all)") \
+    X(TEXELS_IN, "texels_in", FW_STAT_COUNTER, "count", "gaze: texels received for the band") \
     X(T_START, "t_start_ps", FW_STAT_VALUE, "ps", "last frame: FRAME_START handled")             \
     X(T_SORTED, "t_sorted_ps", FW_STAT_VALUE, "ps", "last frame: transform and sort done")       \
     X(T_DONE, "t_done_ps", FW_STAT_VALUE, "ps", "last frame: its last region stream sent")

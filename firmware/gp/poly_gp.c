@@ -14,29 +14,13 @@
  * renderer than the token's path through the next GP, so streams reach the
  * renderer in GP order (emu/ARCHITECTURE.md, "Ring model").  Different
  * renderers' tokens circulate at the same time. */
+#include <math.h>
 #include <string.h>
 
 #include "common/poly_phong_pp.h"
-#include "common/poly_stats.h"
-#include "poly_kernels.h"
+#include "poly_vrz_kernels.h"
 #include "ring_msg.h"
 
-typedef struct {
-    poly_config_t cfg;
-    poly_tri_in_t *in;
-    uint32_t n_in;
-    poly_tri_t *tri;                 /* this frame's screen triangles */
-    uint32_t n_tri, cap_tri;
-    uint32_t *count, *start, *fill;  /* per region */
-    uint32_t *list;                  /* triangle indices, region by region */
-    uint32_t list_cap;
-    uint32_t *phong;                 /* the Phong stream (last GP) */
-    size_t phong_words;
-    int regions_x, regions_y, n_regions;
-    uint32_t frame;
-    poly_spans_t sp;
-    fw_stat_t stat[POLY_STAT_COUNT];
-} poly_state_t;
 
 static void declare_stats(gp_t *gp, poly_state_t *s)
 {
@@ -46,11 +30,12 @@ static void declare_stats(gp_t *gp, poly_state_t *s)
 #undef POLY_STAT_DECLARE
 }
 
-/* Charges the spans counted so far and adds their cycles to statistic id. */
-static void charge(gp_t *gp, poly_state_t *s, int id)
+void poly_charge(gp_t *gp, poly_state_t *s, int id)
 {
     fw_ops_t ops = {0};
     poly_spans_charge(&ops, &s->sp);
+    vr_spans_charge(&ops, &s->vsp);
+    memset(&s->vsp, 0, sizeof s->vsp);
     uint64_t c0 = fw_cycles(gp);
     fw_charge(gp, &ops);
     fw_stat_add(gp, s->stat[id], fw_cycles(gp) - c0);
@@ -64,11 +49,22 @@ static fw_status_t set_config(gp_t *gp, poly_state_t *s, const poly_config_t *c)
         c->shading > POLY_PHONG || c->n_triangles < 0)
         return fw_fail(gp, "polygons: bad configuration (image %dx%d on a %ux%u screen, shading %d)",
                        c->width, c->height, mi->screen_width, mi->screen_height, c->shading);
+    if (c->levels2d < 1 || c->levels2d > POLY_MAX_LEVELS || (c->gaze && !(isfinite(c->gaze_x) &&
+        isfinite(c->gaze_y) && fabs(c->gaze_x) < 1e9 && fabs(c->gaze_y) < 1e9)))
+        return fw_fail(gp, "polygons: bad gaze configuration (%d levels, gaze %g, %g)", c->levels2d,
+                       c->gaze_x, c->gaze_y);
     int rx = (c->width + 127) / 128, ry = (c->height + 127) / 128;
-    if (s->count && rx * ry != s->n_regions)
-        return fw_fail(gp, "polygons: the image size is fixed per sequence");
+    if (s->count && (c->width != s->cfg.width || c->height != s->cfg.height ||
+                     c->levels2d != s->cfg.levels2d))
+        return fw_fail(gp, "polygons: the image size and the 2D levels are fixed per sequence");
     s->cfg = *c;
-    s->regions_x = rx, s->regions_y = ry, s->n_regions = rx * ry;
+    s->regions_x = rx, s->regions_y = ry;
+    s->levels = c->gaze ? c->levels2d : 1;
+    poly_levels_setup(s);
+    /* full resolution: every level-0 tile, row-major */
+    s->n_regions = rx * ry;
+    for (int k = 0; s->reg && k < s->n_regions; k++)
+        s->reg[k] = (poly_region_t){0, (k % rx) * 128, (k / rx) * 128};
     return FW_OK;
 }
 
@@ -86,11 +82,16 @@ static fw_status_t poly_start(gp_t *gp)
     declare_stats(gp, s);
     if (set_config(gp, s, c) != FW_OK)
         return FW_ERROR;
-    size_t n = (size_t)s->n_regions;
+    /* room for every tile of every level: gaze-directed frames plan their
+     * regions among them */
+    size_t n = (size_t)s->n_tiles;
     s->count = fw_alloc(gp, n * sizeof *s->count);
     s->start = fw_alloc(gp, n * sizeof *s->start);
     s->fill = fw_alloc(gp, n * sizeof *s->fill);
-    return s->count && s->start && s->fill ? FW_OK : FW_ERROR;
+    s->reg = fw_alloc(gp, n * sizeof *s->reg);
+    if (!s->count || !s->start || !s->fill || !s->reg)
+        return FW_ERROR;
+    return set_config(gp, s, c);
 }
 
 static fw_status_t take_triangles(gp_t *gp, poly_state_t *s, const ring_msg_t *msg)
@@ -128,7 +129,8 @@ static fw_status_t grow_triangles(gp_t *gp, poly_state_t *s)
     return FW_OK;
 }
 
-/* Transform and set up every triangle, then sort them into regions. */
+/* Transform and set up every triangle, then sort them into regions (of the
+ * populated levels, gaze-directed). */
 static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
 {
     s->n_tri = 0;
@@ -139,7 +141,12 @@ static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
     }
     fw_stat_add(gp, s->stat[POLY_STAT_TRIS_IN], s->n_in);
     fw_stat_add(gp, s->stat[POLY_STAT_TRIS_SETUP], s->n_tri);
-    charge(gp, s, POLY_STAT_CYC_TRANSFORM);
+    poly_charge(gp, s, POLY_STAT_CYC_TRANSFORM);
+    if (s->cfg.gaze) {
+        if (!s->slot_of && poly_vrz_start(gp, s) != FW_OK)
+            return FW_ERROR;
+        return poly_vrz_plan(gp, s) == FW_OK ? poly_vrz_sort(gp, s) : FW_ERROR;
+    }
     for (uint32_t i = 0; i < s->n_tri; i++)
         poly_bin_count(&s->tri[i], s->regions_x, s->count, &s->sp, NULL);
     uint32_t pairs = poly_bin_prefix(s->count, s->start, s->fill, s->n_regions, &s->sp, NULL);
@@ -153,7 +160,7 @@ static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
     for (uint32_t i = 0; i < s->n_tri; i++)
         poly_bin_fill(&s->tri[i], i, s->regions_x, s->start, s->fill, s->list, &s->sp, NULL);
     fw_stat_add(gp, s->stat[POLY_STAT_PAIRS_BINNED], pairs);
-    charge(gp, s, POLY_STAT_CYC_SORT);
+    poly_charge(gp, s, POLY_STAT_CYC_SORT);
     return FW_OK;
 }
 
@@ -181,29 +188,37 @@ static fw_status_t send_words(gp_t *gp, poly_state_t *s, unsigned renderer, cons
 static fw_status_t build_region(gp_t *gp, poly_state_t *s, int k, pp_stream_t *st)
 {
     const poly_config_t *c = &s->cfg;
-    int32_t rx = (k % s->regions_x) * 128, ry = (k / s->regions_x) * 128;
+    int level = s->reg[k].level;
+    int32_t rx = s->reg[k].x, ry = s->reg[k].y;
     poly_region_start(c, fw_gp_index(gp) == 0, st, &s->sp, NULL);
     uint64_t edges0 = s->sp.n[POLY_ROW_ENC_EDGE_EMIT], sent = 0;
     const uint32_t *bin = s->list + s->start[k];
-    for (uint32_t i = 0; i < s->fill[k]; i++)   /* fill[k]: the bin's size after the sort */
-        sent += poly_encode(c, &s->tri[bin[i]], rx, ry, st, &s->sp, NULL);
+    int n_planes = c->shading == POLY_FLAT ? 1 : 4;
+    for (uint32_t i = 0; i < s->fill[k]; i++) {  /* fill[k]: the bin's size after the sort */
+        const poly_tri_t *t = &s->tri[bin[i]];
+        poly_tri_t on_level;
+        if (level > 0) {
+            poly_tri_on_level(t, level, n_planes, &on_level, &s->sp, NULL);
+            t = &on_level;
+        }
+        sent += poly_encode(c, t, level, rx, ry, st, &s->sp, NULL);
+    }
     fw_stat_add(gp, s->stat[POLY_STAT_EDGES_SENT], s->sp.n[POLY_ROW_ENC_EDGE_EMIT] - edges0);
     fw_stat_add(gp, s->stat[POLY_STAT_PAIRS_SENT], sent);
     fw_stat_add(gp, s->stat[POLY_STAT_REGIONS], 1);
-    charge(gp, s, POLY_STAT_CYC_ENCODE);
+    poly_charge(gp, s, POLY_STAT_CYC_ENCODE);
     if (!pp_stream_ok(st))
         return fw_fail(gp, "polygons: region (%d,%d): %s", rx, ry, pp_stream_error(st));
     return FW_OK;
 }
 
-/* This GP's part of region k on renderer j (see the file comment). */
-static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, int k)
+/* This GP's part of region k, renderer j's round r (see the file comment). */
+static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, unsigned r, int k)
 {
     unsigned g = fw_gp_index(gp);
     ring_addr_t rn = ring_addr(RING_NODE_RENDERER, j);
     if (g == 0) {
-        uint32_t args[RING_MSG_ARGS] = {(uint32_t)(k % s->regions_x) * 128,
-                                        (uint32_t)(k / s->regions_x) * 128, 0, 0, 0, 0};
+        uint32_t args[RING_MSG_ARGS] = {(uint32_t)s->reg[k].x, (uint32_t)s->reg[k].y, 0, 0, 0, 0};
         if (fw_send(gp, rn, RING_MSG_RENDERER_SET_REGION, args, NULL, 0) != FW_OK)
             return FW_ERROR;
     }
@@ -217,6 +232,8 @@ static fw_status_t region_part(gp_t *gp, poly_state_t *s, unsigned j, int k)
         return rc;
     if (send_words(gp, s, j, s->phong, s->phong_words) != FW_OK)
         return FW_ERROR;
+    if (s->cfg.gaze)
+        return poly_vrz_store_region(gp, s, j, r, k);
     uint32_t px[RING_MSG_ARGS] = {POLY_PP_R, POLY_PP_G, POLY_PP_B,
                                   ring_addr_pack(ring_addr(RING_NODE_FB, 0)), 0, 0};
     return fw_send(gp, rn, RING_MSG_RENDERER_SEND_PIXELS, px, NULL, 0);
@@ -230,7 +247,7 @@ static fw_status_t take_token(gp_t *gp, poly_state_t *s, unsigned j, unsigned r)
     unsigned g = fw_gp_index(gp);
     for (;;) {
         int k = (int)(j + r * mi->n_renderers);
-        if (region_part(gp, s, j, k) != FW_OK)
+        if (region_part(gp, s, j, r, k) != FW_OK)
             return FW_ERROR;
         fw_stat_set(gp, s->stat[POLY_STAT_T_DONE], fw_time_ps(gp));
         bool last = g + 1 == mi->n_gp;
@@ -270,7 +287,7 @@ static fw_status_t build_phong(gp_t *gp, poly_state_t *s)
     if (rc != FW_OK)
         return rc;
     poly_words(s->phong_words, &s->sp, NULL);
-    charge(gp, s, POLY_STAT_CYC_ENCODE);
+    poly_charge(gp, s, POLY_STAT_CYC_ENCODE);
     return FW_OK;
 }
 
@@ -296,6 +313,8 @@ static fw_status_t poly_message(gp_t *gp, const ring_msg_t *msg)
     poly_state_t *s = fw_state(gp);
     if (msg->kind == RING_MSG_FRAME_START)
         return frame_start(gp, s, msg->args[0]);
+    if (msg->kind == RING_MSG_RENDERER_DATA)
+        return poly_vrz_take_texels(gp, s, msg);
     if (msg->kind != RING_MSG_GP_USER)
         return fw_fail(gp, "polygons: unexpected message kind %u", msg->kind);
     switch (msg->args[0]) {

@@ -511,9 +511,12 @@ static inline poly_qee_t poly_plane_qee(const float pl[3], float x0, float y0, i
 
 /* Appends the instructions of triangle t in the region whose top-left pixel
  * is (rx, ry): false (nothing appended) when some edge leaves the whole
- * region outside.  Edges that leave it all inside are not sent. */
-static inline bool poly_encode(const poly_config_t *c, const poly_tri_t *t, int32_t rx, int32_t ry,
-                               pp_stream_t *st, poly_spans_t *sp, poly_count_t *cnt)
+ * region outside.  Edges that leave it all inside are not sent.  On level
+ * l > 0 of the variable-resolution Z-buffer (poly_vrz_kernels.h) (rx, ry) is
+ * a texel, t's planes are the level's (poly_tri_on_level) and each edge's F
+ * becomes floor(F / 2^l). */
+static inline bool poly_encode(const poly_config_t *c, const poly_tri_t *t, int level, int32_t rx,
+                               int32_t ry, pp_stream_t *st, poly_spans_t *sp, poly_count_t *cnt)
 {
     int64_t F[3];
     int32_t D[3], E[3];
@@ -530,6 +533,12 @@ static inline bool poly_encode(const poly_config_t *c, const poly_tri_t *t, int3
         E[k] = POLY_SUB * dX * t->s;
         F[k] = (int64_t)t->s * ((int64_t)dX * (POLY_SUB / 2 - t->Y[i]) -
                                 (int64_t)dY * (POLY_SUB / 2 - t->X[i])) + t->own[k] - 1;
+        if (level > 0) {
+            /* exact in double (|F| < 2^41): the product by 2^-l (2 slots),
+             * the floor and the conversions */
+            F[k] = (int64_t)floor(ldexp((double)F[k], -level));
+            POLY_SPAN(sp, cnt, ENC_LEVEL_EDGE, .fmul = 2, .int_ops = 2 + 1, .branches = 1);
+        }
         int64_t e00 = (int64_t)D[k] * rx + (int64_t)E[k] * ry + F[k];
         int64_t e10 = e00 + 127 * (int64_t)D[k], e01 = e00 + 127 * (int64_t)E[k];
         int64_t e11 = e10 + 127 * (int64_t)E[k];

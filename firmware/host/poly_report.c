@@ -61,6 +61,14 @@ void poly_report_print(FILE *log, const poly_session_t *s, const poly_frame_resu
             r->pairs_sent ? (double)r->rn_exec_cycles_total / (double)r->pairs_sent : 0);
     fprintf(log, "  region transfer         %10llu pixel bytes, %.3f ms of channel time\n",
             (unsigned long long)r->ring_bytes[RING_CLASS_PIXELS], 1e3 * r->ring_class_busy_s[RING_CLASS_PIXELS]);
+    if (s->cfg.gaze)
+        fprintf(log, "  variable-resolution Z  %llu level tiles drawn (%llu PP pixels), %llu texels "
+                "to the GPs (%llu bytes), planning %.3f ms and resampling %.3f ms (GP cycles over "
+                "all GPs / GPs)\n", (unsigned long long)r->regions_drawn,
+                (unsigned long long)r->regions_drawn * 16384ull, (unsigned long long)r->texels_in,
+                (unsigned long long)r->ring_bytes[RING_CLASS_DATA],
+                1e3 * (double)r->cycles_levels / gp_hz / s->m.n_gp,
+                1e3 * (double)r->cycles_resample / gp_hz / s->m.n_gp);
     for (int k = 0; k < POLY_STAGE_COUNT; k++)
         fprintf(log, "  stage %-38s %9.3f ms\n", poly_stage_name((poly_stage_t)k), 1e3 * r->stage_s[k]);
 }
@@ -88,6 +96,10 @@ static void write_result(json_writer_t *j, const poly_session_t *s, const poly_f
     json_kv_uint(j, "cycles_transform", r->cycles_transform);
     json_kv_uint(j, "cycles_sort", r->cycles_sort);
     json_kv_uint(j, "cycles_encode", r->cycles_encode);
+    json_kv_uint(j, "cycles_levels", r->cycles_levels);
+    json_kv_uint(j, "cycles_resample", r->cycles_resample);
+    json_kv_uint(j, "regions_drawn", r->regions_drawn);
+    json_kv_uint(j, "texels_in", r->texels_in);
     json_kv_double(j, "transform_and_sort_s_busiest", r->gp_transform_sort_s_max);
     json_kv_double(j, "encode_s_busiest", r->gp_encode_s_max);
     json_kv_double(j, "sorted_by_s", r->gp_sorted_s_max);
@@ -134,6 +146,12 @@ pp5_status_t poly_report_write(const char *path, const poly_session_t *s, const 
     json_kv_string(&j, "scene", scene_name ? scene_name : "");
     json_kv_string(&j, "shading", poly_shading_name((poly_shading_t)s->cfg.shading));
     json_kv_bool(&j, "cull_back", s->cfg.cull_back != 0);
+    json_kv_string(&j, "z_buffer", s->cfg.gaze ? "variable resolution" : "full resolution");
+    if (s->cfg.gaze) {
+        json_kv_double(&j, "gaze_x", s->cfg.gaze_x);
+        json_kv_double(&j, "gaze_y", s->cfg.gaze_y);
+        json_kv_int(&j, "levels2d", s->cfg.levels2d);
+    }
     json_kv_uint(&j, "triangles", s->n_tris);
     json_kv_int(&j, "width", s->cfg.width);
     json_kv_int(&j, "height", s->cfg.height);

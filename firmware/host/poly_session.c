@@ -54,6 +54,21 @@ static void make_config(poly_session_t *s, int width, int height, const raster_c
     }
     c->ambient = (float)st->ambient;
     c->diffuse = (float)st->diffuse;
+    const gaze_model_t *g = &s->opts.gaze_model;
+    c->gaze = s->opts.gaze;
+    c->levels2d = s->opts.gaze ? g->max_level + 1 : 1;
+    if (c->levels2d > POLY_MAX_LEVELS)
+        c->levels2d = POLY_MAX_LEVELS;
+    c->gaze_x = s->gaze_x, c->gaze_y = s->gaze_y;
+    if (s->opts.gaze) {
+        c->g_inches_per_px = g->inches_per_px;
+        c->g_view_distance_in = g->display.view_distance_in;
+        c->g_e_full_deg = g->e_full_deg, c->g_e_edge_deg = g->e_edge_deg;
+        c->g_sigma_deg = g->sigma_deg, c->g_rho_min = g->rho_min;
+        c->g_r_zero_px = g->r_zero_px, c->g_r_max_px = g->r_max_px;
+        c->g_max_level = g->max_level;
+        c->g_level_far = g->level_edge;
+    }
 }
 
 static pp5_status_t send_gp(poly_session_t *s, unsigned g, uint32_t sub, const void *payload,
@@ -107,6 +122,11 @@ pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const p
                     return pp5_fail(PP5_E_RANGE, "polygons: triangle %zu has a coordinate that is "
                                     "not finite", i);
     s->n_tris = (uint32_t)n;
+    if (o->gaze && !(isfinite(o->gaze_x) && isfinite(o->gaze_y) && fabs(o->gaze_x) <= 1e6 &&
+                     fabs(o->gaze_y) <= 1e6))
+        return pp5_fail(PP5_E_RANGE, "polygons: gaze point (%g, %g) is not a place on the screen",
+                        o->gaze_x, o->gaze_y);
+    s->gaze_x = o->gaze_x, s->gaze_y = o->gaze_y;
     make_config(s, width, height, cam, style);
     pp5_status_t st = machine_init(&s->m, p);
     if (st != PP5_OK)
@@ -162,6 +182,38 @@ pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size
     return PP5_OK;
 }
 
+pp5_status_t poly_triangles_from_soup(const mesh_soup_t *s, poly_tri_in_t **out)
+{
+    *out = calloc(s->n_tris > 0 ? (size_t)s->n_tris : 1, sizeof **out);
+    if (!*out)
+        return pp5_fail(PP5_E_NOMEM, "polygons: out of memory for %d triangles", s->n_tris);
+    for (int t = 0; t < s->n_tris; t++)
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++) {
+                (*out)[t].p[k][d] = (float)s->pos[9 * t + 3 * k + d];
+                (*out)[t].n[k][d] = (float)s->nrm[9 * t + 3 * k + d];
+            }
+    return PP5_OK;
+}
+
+void poly_style_from_mesh_opts(const mesh_render_opts_t *o, const mesh_soup_t *s,
+                               raster_style_t *st, poly_options_t *po)
+{
+    raster_style_default(st, o->shading);
+    for (int k = 0; k < 3; k++) {
+        st->light_dir[k] = o->light_dir[k];
+        st->front_rgb[k] = st->back_rgb[k] =
+            (uint8_t)(s->n_tris > 0 ? 255.0 * s->rgb[k] + 0.5 : 200);
+    }
+    st->ambient = o->ambient;
+    st->diffuse = o->diffuse;
+    poly_options_default(po);
+    po->shading = o->shading == RASTER_PHONG ? POLY_PHONG
+                  : o->shading == RASTER_GOURAUD ? POLY_GOURAUD : POLY_FLAT;
+    po->cull_back = o->cull_back;
+    memcpy(po->background, o->background, 3);
+}
+
 pp5_status_t poly_session_init_mesh(poly_session_t *s, const pp5_params_t *p, const mesh_t *m,
                                     int width, int height, const raster_camera_t *cam,
                                     const raster_style_t *style, const poly_options_t *o)
@@ -196,6 +248,22 @@ pp5_status_t poly_session_set_camera(poly_session_t *s, const raster_camera_t *c
     return st;
 }
 
+pp5_status_t poly_session_set_gaze(poly_session_t *s, double gaze_x, double gaze_y)
+{
+    if (!isfinite(gaze_x) || !isfinite(gaze_y) || fabs(gaze_x) > 1e6 || fabs(gaze_y) > 1e6)
+        return pp5_fail(PP5_E_RANGE, "polygons: gaze point (%g, %g) is not a place on the screen",
+                        gaze_x, gaze_y);
+    s->gaze_x = gaze_x, s->gaze_y = gaze_y;
+    s->cfg.gaze_x = gaze_x, s->cfg.gaze_y = gaze_y;
+    pp5_status_t st = PP5_OK;
+    for (unsigned g = 0; g < s->m.n_gp && st == PP5_OK; g++) {
+        poly_config_t c = s->cfg;
+        c.n_triangles = 0;      /* not read after the start */
+        st = send_gp(s, g, POLY_MSG_CONFIG, &c, sizeof c);
+    }
+    return st;
+}
+
 void poly_session_free(poly_session_t *s)
 {
     if (s->m_ok)
@@ -221,6 +289,9 @@ static void gather_gps(const poly_session_t *s, const stats_t *f, pp5_tick_t t0,
         r->edges_sent += (uint64_t)prog(f, g, "edges_sent");
         r->stream_words += (uint64_t)prog(f, g, "stream_words");
         r->regions += (uint64_t)prog(f, g, "regions");
+        r->texels_in += (uint64_t)prog(f, g, "texels_in");
+        r->cycles_levels += (uint64_t)prog(f, g, "cycles_levels");
+        r->cycles_resample += (uint64_t)prog(f, g, "cycles_resample");
         uint64_t ct = (uint64_t)prog(f, g, "cycles_transform"), cs = (uint64_t)prog(f, g, "cycles_sort"),
                  ce = (uint64_t)prog(f, g, "cycles_encode");
         r->cycles_transform += ct, r->cycles_sort += cs, r->cycles_encode += ce;
@@ -236,6 +307,7 @@ static void gather_gps(const poly_session_t *s, const stats_t *f, pp5_tick_t t0,
         r->gp_sorted_s_max = fmax(r->gp_sorted_s_max, sorted * 1e-12);
     }
     r->gp_busy_s_mean = s->m.n_gp ? sum / s->m.n_gp : 0;
+    r->regions_drawn = s->m.n_gp ? r->regions / s->m.n_gp : 0;   /* every GP streams every region */
 }
 
 static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_result_t *r)
@@ -271,11 +343,17 @@ static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_r
      * channels.  A node sends one message at a time (emu/ring.h), so a
      * renderer's regions leave one after another: regions x wire time. */
     r->stage_s[POLY_STAGE_RING] = ch_sum / s->params.ring_channels;
-    int regions = ((s->cfg.width + 127) / 128) * ((s->cfg.height + 127) / 128);
+    int regions = (int)(s->m.n_gp ? r->regions / s->m.n_gp : 0);
     int per_rn = (regions + (int)s->m.n_rn - 1) / (int)s->m.n_rn;
     double wire_bytes = 128.0 * 128 * 3 + s->params.ring_header_bytes;
     double cycles = ceil(wire_bytes / (s->params.ring_width_bits / 8));
     r->stage_s[POLY_STAGE_RN_PORT] = per_rn * cycles / s->params.ring_clock_hz;
+    if (s->cfg.gaze) {
+        /* the texel boxes leave the renderers instead of whole regions */
+        double box_cycles = ceil((double)r->ring_bytes[RING_CLASS_DATA] /
+                                 (s->params.ring_width_bits / 8));
+        r->stage_s[POLY_STAGE_RN_PORT] = box_cycles / s->m.n_rn / s->params.ring_clock_hz;
+    }
     int b = 0;
     for (int k = 1; k < POLY_STAGE_COUNT; k++)
         if (r->stage_s[k] > r->stage_s[b])

@@ -13,12 +13,20 @@
 
 #include "firmware/common/poly_config.h"
 #include "machine.h"
+#include "render/gaze2d.h"
 #include "render/mesh/mesh_raster.h"
+#include "render/mesh/mesh_render.h"
 
 typedef struct {
     poly_shading_t shading;     /* flat, Gouraud (per-vertex light) or Phong (per pixel in the PPs) */
     bool cull_back;             /* drop back faces (default: two-sided, as mesh_raster) */
     uint8_t background[3];
+    /* Gaze-directed frames: the variable-resolution Z-buffer (gaze paper
+     * §7, seed 004) with this acuity model's 2D levels, gazed at (gaze_x,
+     * gaze_y) (image pixels) until poly_session_set_gaze. */
+    bool gaze;
+    gaze_model_t gaze_model;
+    double gaze_x, gaze_y;
 } poly_options_t;
 
 void poly_options_default(poly_options_t *o);
@@ -46,6 +54,11 @@ typedef struct {
     /* GP work (sums over GPs) and the busiest GP's split */
     uint64_t tris_in, tris_setup, pairs_binned, pairs_sent, edges_sent, stream_words, regions;
     uint64_t cycles_transform, cycles_sort, cycles_encode;
+    /* regions drawn (gaze-directed frames: the populated level tiles), the
+     * texels the GPs received, the GPs' planning and
+     * resampling cycles (sums over GPs) */
+    uint64_t regions_drawn, texels_in;
+    uint64_t cycles_levels, cycles_resample;
     uint64_t gp_fdiv_busiest;             /* fdiv operations charged by the busiest GP */
     double gp_transform_sort_s_max, gp_encode_s_max, gp_busy_s_max, gp_busy_s_mean;
     double gp_sorted_s_max;               /* the last GP's end of transform and sort, from frame start */
@@ -68,6 +81,7 @@ typedef struct {
     uint32_t n_tris;
     double load_s;                        /* emulated time of the load (program and triangles) */
     unsigned frames;
+    double gaze_x, gaze_y;                /* image pixels (gaze-directed frames) */
     poly_frame_result_t last;
 } poly_session_t;
 
@@ -85,8 +99,17 @@ pp5_status_t poly_session_init_mesh(poly_session_t *s, const pp5_params_t *p, co
                                     const raster_style_t *style, const poly_options_t *o);
 /* The mesh's triangles as the session deals them (caller frees *out). */
 pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size_t *n);
+/* A native frame's triangle list as the session deals it (caller frees
+ * *out), and its light and colours as the pipeline takes them (one surface
+ * colour: the list's first object's). */
+pp5_status_t poly_triangles_from_soup(const mesh_soup_t *s, poly_tri_in_t **out);
+void poly_style_from_mesh_opts(const mesh_render_opts_t *o, const mesh_soup_t *s,
+                               raster_style_t *st, poly_options_t *po);
 /* One frame; img (may be NULL) is allocated here. */
 pp5_status_t poly_session_frame(poly_session_t *s, image8_t *img, poly_frame_result_t *r);
+/* A new gaze point (image pixels) for the next gaze-directed frames (the GPs
+ * get it over the ring). */
+pp5_status_t poly_session_set_gaze(poly_session_t *s, double gaze_x, double gaze_y);
 /* A new camera for the next frames (the GPs get it over the ring). */
 pp5_status_t poly_session_set_camera(poly_session_t *s, const raster_camera_t *cam);
 void poly_session_free(poly_session_t *s);
