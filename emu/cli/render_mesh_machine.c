@@ -15,41 +15,8 @@
 
 #include "firmware/host/poly_report.h"
 #include "firmware/host/poly_session.h"
+#include "firmware/host/poly_soup.h"
 #include "render_cmd.h"
-
-static pp5_status_t soup_to_triangles(const mesh_soup_t *s, poly_tri_in_t **out)
-{
-    *out = calloc(s->n_tris > 0 ? (size_t)s->n_tris : 1, sizeof **out);
-    if (!*out)
-        return pp5_fail(PP5_E_NOMEM, "render --machine: out of memory for %d triangles",
-                        s->n_tris);
-    for (int t = 0; t < s->n_tris; t++)
-        for (int k = 0; k < 3; k++)
-            for (int d = 0; d < 3; d++) {
-                (*out)[t].p[k][d] = (float)s->pos[9 * t + 3 * k + d];
-                (*out)[t].n[k][d] = (float)s->nrm[9 * t + 3 * k + d];
-            }
-    return PP5_OK;
-}
-
-/* The native frame's light and colours as the pipeline takes them. */
-static void machine_style(const mesh_render_opts_t *o, const mesh_soup_t *s, raster_style_t *st,
-                          poly_options_t *po)
-{
-    raster_style_default(st, o->shading);
-    for (int k = 0; k < 3; k++) {
-        st->light_dir[k] = o->light_dir[k];
-        st->front_rgb[k] = st->back_rgb[k] =
-            (uint8_t)(s->n_tris > 0 ? 255.0 * s->rgb[k] + 0.5 : 200);
-    }
-    st->ambient = o->ambient;
-    st->diffuse = o->diffuse;
-    poly_options_default(po);
-    po->shading = o->shading == RASTER_PHONG ? POLY_PHONG
-                  : o->shading == RASTER_GOURAUD ? POLY_GOURAUD : POLY_FLAT;
-    po->cull_back = o->cull_back;
-    memcpy(po->background, o->background, 3);
-}
 
 pp5_status_t render_mesh_machine(const render_cmd_t *c, const char *scene_name,
                                  const mesh_soup_t *list, const raster_camera_t *cam,
@@ -59,12 +26,12 @@ pp5_status_t render_mesh_machine(const render_cmd_t *c, const char *scene_name,
     pp5_status_t st = pp5_params_build(&c->params, &p);
     poly_tri_in_t *tris = NULL;
     if (st == PP5_OK)
-        st = soup_to_triangles(list, &tris);
+        st = poly_triangles_from_soup(list, &tris);
     if (st != PP5_OK)
         return st;
     raster_style_t style;
     poly_options_t po;
-    machine_style(opts, list, &style, &po);
+    poly_style_from_render_opts(opts, list, &style, &po);
     poly_session_t s;
     st = poly_session_init(&s, &p, tris, (size_t)list->n_tris, native->width, native->height,
                            cam, &style, &po);

@@ -65,8 +65,10 @@ static pp5_status_t send_gp(poly_session_t *s, unsigned g, uint32_t sub, const v
     return machine_send(&s->m, &msg, s->m.sched.now);
 }
 
-/* Deals the triangles round-robin and loads every GP. */
-static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_t n)
+/* Deals the triangles round-robin to every GP, loading the program first
+ * when load_program (else the GPs replace the lists they hold). */
+static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_t n,
+                             bool load_program)
 {
     unsigned G = s->m.n_gp;
     poly_tri_in_t *share = malloc(sizeof *share * (n / G + 1));
@@ -79,12 +81,26 @@ static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_
             share[m++] = tris[i];
         poly_config_t c = s->cfg;
         c.n_triangles = (int32_t)m;
-        st = machine_load_program(&s->m, g, &poly_program, &c, sizeof c);
+        if (load_program)
+            st = machine_load_program(&s->m, g, &poly_program, &c, sizeof c);
         if (st == PP5_OK)
             st = send_gp(s, g, POLY_MSG_TRIANGLES, share, m * sizeof *share);
     }
     free(share);
     return st;
+}
+
+static pp5_status_t check_triangles(const poly_tri_in_t *tris, size_t n)
+{
+    if (n > (size_t)INT32_MAX / 2)
+        return pp5_fail(PP5_E_RANGE, "polygons: %zu triangles is too many", n);
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++)
+                if (!isfinite(tris[i].p[k][d]) || !isfinite(tris[i].n[k][d]))
+                    return pp5_fail(PP5_E_RANGE, "polygons: triangle %zu has a coordinate that is "
+                                    "not finite", i);
+    return PP5_OK;
 }
 
 pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const poly_tri_in_t *tris,
@@ -98,21 +114,16 @@ pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const p
         width > 2048)
         return pp5_fail(PP5_E_RANGE, "polygons: image %dx%d does not fit the %ux%u frame buffer",
                         width, height, p->fb_width, p->fb_height);
-    if (n > (size_t)INT32_MAX / 2)
-        return pp5_fail(PP5_E_RANGE, "polygons: %zu triangles is too many", n);
-    for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++)
-            for (int d = 0; d < 3; d++)
-                if (!isfinite(tris[i].p[k][d]) || !isfinite(tris[i].n[k][d]))
-                    return pp5_fail(PP5_E_RANGE, "polygons: triangle %zu has a coordinate that is "
-                                    "not finite", i);
+    pp5_status_t st = check_triangles(tris, n);
+    if (st != PP5_OK)
+        return st;
     s->n_tris = (uint32_t)n;
     make_config(s, width, height, cam, style);
-    pp5_status_t st = machine_init(&s->m, p);
+    st = machine_init(&s->m, p);
     if (st != PP5_OK)
         return st;
     s->m_ok = true;
-    st = load_gps(s, tris, n);
+    st = load_gps(s, tris, n, true);
     sched_stop_t stop = SCHED_STOP_IDLE;
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
@@ -196,6 +207,21 @@ pp5_status_t poly_session_set_camera(poly_session_t *s, const raster_camera_t *c
     return st;
 }
 
+pp5_status_t poly_session_set_triangles(poly_session_t *s, const poly_tri_in_t *tris, size_t n)
+{
+    pp5_status_t st = check_triangles(tris, n);
+    if (st != PP5_OK)
+        return st;
+    /* The host's messages are counted when they are queued (emu/ring.c), so
+     * the bytes are taken here; their transfer happens in the next frame. */
+    uint64_t bytes0 = ring_total_bytes_sent(&s->m.ring);
+    st = load_gps(s, tris, n, false);
+    s->upload_ring_bytes = ring_total_bytes_sent(&s->m.ring) - bytes0;
+    if (st == PP5_OK)
+        s->n_tris = (uint32_t)n;
+    return st;
+}
+
 void poly_session_free(poly_session_t *s)
 {
     if (s->m_ok)
@@ -256,11 +282,10 @@ static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_r
     double ch_sum = 0;
     for (unsigned c = 0; c < s->params.ring_channels; c++)
         ch_sum += stats_valuef(f, "ring.by_channel.%u.busy_s", c);
-    const machine_frame_t *mf = &s->m.frames[s->m.n_frames - 1];
     for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
         r->ring_bytes[k] = (uint64_t)stats_valuef(f, "ring.by_class.%s.bytes_sent", stats_class_name(k));
         r->ring_bytes_total += r->ring_bytes[k];
-        r->ring_class_busy_s[k] = ticks_to_s(mf->busy_by_class[k]);
+        r->ring_class_busy_s[k] = stats_valuef(f, "ring.by_class.%s.busy_s", stats_class_name(k));
     }
     double T = r->frame_time_s;
     r->ring_util_total = T > 0 ? ch_sum / (s->params.ring_channels * T) : 0;
@@ -317,8 +342,9 @@ pp5_status_t poly_session_frame(poly_session_t *s, image8_t *img, poly_frame_res
     stats_free(&before);
     if (st != PP5_OK)
         return st;
-    const machine_frame_t *mf = &m->frames[m->n_frames - 1];
-    r->frame_time_s = ticks_to_s(mf->end_ps - mf->start_ps);
+    /* the machine keeps MACHINE_MAX_FRAMES frame records; the scheduler's
+     * clock (left at the frame's last activity) serves any number of frames */
+    r->frame_time_s = ticks_to_s(m->sched.now - t0);
     gather_gps(s, &f, t0, r);
     gather_units(s, &f, r);
     stats_free(&f);

@@ -67,6 +67,7 @@ typedef struct {
     poly_config_t cfg;                    /* as sent (n_triangles is each GP's own) */
     uint32_t n_tris;
     double load_s;                        /* emulated time of the load (program and triangles) */
+    uint64_t upload_ring_bytes;           /* the last poly_session_set_triangles's wire bytes */
     unsigned frames;
     poly_frame_result_t last;
 } poly_session_t;
@@ -87,6 +88,13 @@ pp5_status_t poly_session_init_mesh(poly_session_t *s, const pp5_params_t *p, co
 pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size_t *n);
 /* One frame; img (may be NULL) is allocated here. */
 pp5_status_t poly_session_frame(poly_session_t *s, image8_t *img, poly_frame_result_t *r);
+/* A new triangle list for the next frames, dealt as poly_session_init
+ * deals it.  The host queues it on the ring now; the GPs take it (free the
+ * old list, store the new) before the next frame's start reaches them, so
+ * its transfer and storing fall inside the next frame's time.  Its wire
+ * bytes are left in s->upload_ring_bytes: the ring counts bytes when they
+ * are queued, before that frame's figures start. */
+pp5_status_t poly_session_set_triangles(poly_session_t *s, const poly_tri_in_t *tris, size_t n);
 /* A new camera for the next frames (the GPs get it over the ring). */
 pp5_status_t poly_session_set_camera(poly_session_t *s, const raster_camera_t *cam);
 void poly_session_free(poly_session_t *s);
