@@ -50,6 +50,18 @@ static const char *write_scene(void)
     return path;
 }
 
+/* The polygons source on the fixture scene, 64x64, with more options. */
+static void *open_scene(const char *more)
+{
+    gaze_geometry_t display;
+    angles_paper_geometry(&display);
+    char opts[1400];
+    snprintf(opts, sizeof opts, "scene=%s,size=64x64,%s", write_scene(), more);
+    void *ctx = NULL;
+    REQUIRE_MSG(poly_source()->open(opts, &display, &ctx) == PP5_OK, "%s", pp5_error_text());
+    return ctx;
+}
+
 TEST(replay_scene_geometry_of_the_fixture_by_hand)
 {
     /* The hand derivation of the file comment, step by step, so that the
@@ -72,17 +84,11 @@ TEST(replay_scene_frames_come_from_the_machine)
      * triangles' payload (72 bytes each: 3 corners x position and normal,
      * 3 floats each) over the ring, inside that frame's bytes. */
     const replay_cost_source_t *cs = poly_source();
-    const char *scene = write_scene();
-    gaze_geometry_t display;
-    angles_paper_geometry(&display);
     static const char *const machines[] = {"gp.count=1,renderer.count=1",
                                            "gp.count=2,renderer.count=2",
                                            "gp.count=3,set=renderer.count=4"};
     for (int m = 0; m < 3; m++) {
-        char opts[1400];
-        snprintf(opts, sizeof opts, "scene=%s,size=64x64,%s", scene, machines[m]);
-        void *ctx = NULL;
-        REQUIRE_MSG(cs->open(opts, &display, &ctx) == PP5_OK, "%s", pp5_error_text());
+        void *ctx = open_scene(machines[m]);
         static const double gaze[3][2] = {{640, 512}, {0, 0}, {640, 512}};
         for (int k = 0; k < 3; k++) {
             replay_frame_cost_t c = {.want_image = false};
@@ -171,14 +177,8 @@ TEST(replay_scene_image_equals_a_direct_session_frame)
      * session draws from that list.  The far list is coarser (file
      * comment): fewer triangles than the mesh's 760. */
     const replay_cost_source_t *cs = poly_source();
+    void *ctx = open_scene("shading=gouraud,gp.count=2,renderer.count=2");
     const char *scene = write_scene();
-    gaze_geometry_t display;
-    angles_paper_geometry(&display);
-    char opts[1200];
-    snprintf(opts, sizeof opts, "scene=%s,size=64x64,shading=gouraud,gp.count=2,"
-             "renderer.count=2", scene);
-    void *ctx = NULL;
-    REQUIRE_MSG(cs->open(opts, &display, &ctx) == PP5_OK, "%s", pp5_error_text());
     /* display -> image pixel indices: scale 64/1280 about the centre, less
      * half a pixel (pixel x spans x .. x + 1) */
     static const double gaze[3][2] = {{640, 512}, {0, 0}, {640, 512}};
@@ -209,13 +209,7 @@ TEST(replay_scene_image_equals_a_direct_session_frame)
 TEST(replay_scene_lod_off_keeps_full_detail)
 {
     const replay_cost_source_t *cs = poly_source();
-    const char *scene = write_scene();
-    gaze_geometry_t display;
-    angles_paper_geometry(&display);
-    char opts[1200];
-    snprintf(opts, sizeof opts, "scene=%s,size=64x64,lod=off,gp.count=2", scene);
-    void *ctx = NULL;
-    REQUIRE_MSG(cs->open(opts, &display, &ctx) == PP5_OK, "%s", pp5_error_text());
+    void *ctx = open_scene("lod=off,gp.count=2");
     replay_frame_cost_t c = {.want_image = false};
     REQUIRE(cs->cost(ctx, 640, 512, &c) == PP5_OK);
     REQUIRE(cs->cost(ctx, 0, 0, &c) == PP5_OK);
