@@ -16,6 +16,7 @@
 
 #include "firmware/gp/poly_vrz_kernels.h"
 #include "firmware/host/poly_report.h"
+#include "firmware/host/poly_soup.h"
 #include "firmware/host/poly_session.h"
 #include "harness.h"
 #include "render/gaze2d.h"
@@ -64,7 +65,7 @@ static void machine_frame(const vrz_scene_t *v, const gaze_model_t *g, bool vrz,
     REQUIRE(poly_triangles_from_soup(&v->soup, &tris) == PP5_OK);
     raster_style_t style;
     poly_options_t po;
-    poly_style_from_mesh_opts(&v->opts, &v->soup, &style, &po);
+    poly_style_from_render_opts(&v->opts, &v->soup, &style, &po);
     po.gaze = vrz, po.gaze_model = *g, po.gaze_x = gx, po.gaze_y = gy;
     poly_session_t s;
     REQUIRE_MSG(poly_session_init(&s, &p, tris, (size_t)v->soup.n_tris, v->w, v->h, &v->cam, &style,
@@ -107,7 +108,7 @@ static void plan_state(poly_state_t *s, const gaze_model_t *g, int w, int h, dou
     p.n_gp = 1, p.n_renderers = 1;
     raster_style_t style;
     poly_options_t po;
-    poly_style_from_mesh_opts(&v.opts, &v.soup, &style, &po);
+    poly_style_from_render_opts(&v.opts, &v.soup, &style, &po);
     po.gaze = true, po.gaze_model = *g, po.gaze_x = gx, po.gaze_y = gy;
     poly_tri_in_t none;
     memset(&none, 0, sizeof none);

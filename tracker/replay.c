@@ -74,7 +74,7 @@ static pp5_status_t constant_open(const char *options, const gaze_geometry_t *di
 
 static const replay_cost_source_t constant_source = {
     "constant", "every frame takes the same time; no rays, ring bytes or image (built-in "
-    "stand-in, NOT the emulated machine)", constant_open, replay_constant_cost, free};
+    "stand-in, NOT the emulated machine)", constant_open, replay_constant_cost, free, NULL, NULL};
 
 __attribute__((constructor)) static void register_constant_source(void)
 {

@@ -32,7 +32,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include "gaze.h"
+#include "json.h"
 #include "png_io.h"
 #include "predict.h"
 #include "status.h"
@@ -69,13 +71,19 @@ pp5_status_t replay_constant_cost(void *ctx, double gaze_x, double gaze_y,
  * "constant" (replay_constant_cost, options = frame time in ms) is built in.
  *   open:  parses `options` (may be "" ), sees the rendered display, returns ctx
  *   cost:  as replay_frame_cost_fn
- *   close: frees ctx (may be NULL) */
+ *   close: frees ctx (may be NULL)
+ *   describe, report_json (optional, NULL when the source has none): the
+ *          source's own figures over the frames so far, as lines (each
+ *          starting with two spaces) for the replay's summary and as members
+ *          of an object in its JSON report */
 typedef struct {
     const char *name;
     const char *summary;
     pp5_status_t (*open)(const char *options, const gaze_geometry_t *display, void **ctx);
     replay_frame_cost_fn cost;
     void (*close)(void *ctx);
+    void (*describe)(void *ctx, FILE *out);
+    void (*report_json)(void *ctx, json_writer_t *j);
 } replay_cost_source_t;
 
 #define REPLAY_MAX_COST_SOURCES 16

@@ -40,6 +40,15 @@ static void usage(FILE *out)
         fprintf(out, "                             %-10s %s\n", replay_cost_source_at(i)->name,
                 replay_cost_source_at(i)->summary);
     fprintf(out,
+        "  --scene FILE             shorthand for --cost polygons:scene=FILE: the emulated machine\n"
+        "                           draws the polygon scene FILE (as pp5 render --scene reads, or\n"
+        "                           gen:spheres100k), each object at the level of detail the gaze\n"
+        "                           allows; a changed triangle list's transfer over the ring is\n"
+        "                           counted inside the frame that needs it (time and ring bytes),\n"
+        "                           and the summary says how often and at what cost it changed.\n"
+        "                           With --cost polygons:OPTIONS, scene=FILE is added to them\n"
+        "  --mesh FILE              the same for one mesh (.obj/.off/.ply or gen:NAME, as pp5\n"
+        "                           render --mesh): --cost polygons:mesh=FILE\n"
         "  --frame-time-ms X        shorthand for --cost constant:X (a stand-in; %.1f ms is the\n"
         "                           paper's 15 frames/s)\n"
         "  --tracker-latency-ms T   sample age when it reaches the renderer (default %.0f) [U]\n"
@@ -85,6 +94,7 @@ static void usage(FILE *out)
         "                           outputs.  A line that fails is a row with its error (exit 8)\n"
         "Examples:\n"
         "  pp5 replay traces/saccades_10s_250hz.trace --predict landing --report r.json\n"
+        "  pp5 replay traces/saccades_10s_250hz.trace --scene gen:spheres100k --max-frames 50\n"
         "  pp5 replay traces/pursuit_10s_250hz.trace --sweep-latency --machine \"gp.count=16\" \\\n"
         "      --machine \"gp.count=32\"\n"
         "  mpirun -n 2 pp5 replay --batch runs.list --max-frames 50 --out runs.csv\n",
@@ -153,7 +163,8 @@ void replay_summary_json(json_writer_t *j, const replay_summary_t *s)
 
 static pp5_status_t write_report(const char *path, const char *trace_path, const trace_t *t,
                                  const replay_params_t *p, const replay_cost_source_t *cs,
-                                 const char *cost_options, const replay_summary_t *s)
+                                 void *cost_ctx, const char *cost_options,
+                                 const replay_summary_t *s)
 {
     outfile_t o;
     pp5_status_t st = outfile_open(&o, path, false);
@@ -179,6 +190,12 @@ static pp5_status_t write_report(const char *path, const char *trace_path, const
         json_kv_string(&j, "predict_outside_saccades",
                        predict_kind_name(p->predict.landing_fallback));
     json_kv_bool(&j, "timing_only", p->timing_only);
+    if (cs->report_json) {
+        json_key(&j, "frame_cost_details");
+        json_begin_object(&j);
+        cs->report_json(cost_ctx, &j);
+        json_end_object(&j);
+    }
     replay_summary_json(&j, s);
     json_end_object(&j);
     fputc('\n', f);
@@ -278,7 +295,8 @@ static const struct option replay_opts[] = {
     {"machine-frames", required_argument, 0, 'm'}, {"help", no_argument, 0, 'h'},
     {"batch", required_argument, 0, 'B'}, {"out", required_argument, 0, 'o'},
     {"resume", no_argument, 0, 'e'}, {"shard", required_argument, 0, 'k'},
-    {"accounting", required_argument, 0, 'a'},
+    {"accounting", required_argument, 0, 'a'}, {"scene", required_argument, 0, 'Z'},
+    {"mesh", required_argument, 0, 'X'},
     {0, 0, 0, 0}};
 
 /* The latency and geometry options. */
@@ -317,12 +335,16 @@ pp5_status_t replay_cli_option(int c, const char *arg, replay_cli_t *o, bool *do
     case 'f':
         if ((st = cliopt_double("--frame-time-ms", arg, 0.01, 1e6, &ms)) == PP5_OK)
             snprintf(o->cost_spec, sizeof o->cost_spec, "constant:%s", arg);
+        o->cost_given = true;
         return st;
     case 'C':
         if (strlen(arg) >= sizeof o->cost_spec)
             return pp5_fail(PP5_E_CONFIG, "--cost: too long");
         snprintf(o->cost_spec, sizeof o->cost_spec, "%s", arg);
+        o->cost_given = true;
         return PP5_OK;
+    case 'Z': o->scene = arg; return PP5_OK;
+    case 'X': o->mesh = arg; return PP5_OK;
     case 'R': case 'g': case 'r': case 't': case 'd': case 'l':
         return parse_latency_option(c, arg, &o->p);
     case 'F': o->frames_dir = arg; return PP5_OK;
@@ -414,12 +436,14 @@ static int record_live(const char *live, const char *seconds, char *live_path)
 }
 
 static void print_summary(const char *path, const trace_t *t, const replay_params_t *p,
-                          const replay_cost_source_t *cs, const char *cost_options,
-                          const replay_summary_t *s)
+                          const replay_cost_source_t *cs, void *cost_ctx,
+                          const char *cost_options, const replay_summary_t *s)
 {
     printf("replay %s (%s)\n", path, t->header.source);
     printf("  frame source: %s%s%s: %s; mean frame %.1f ms\n", cs->name,
            cost_options[0] ? ":" : "", cost_options, cs->summary, s->mean_frame_s * 1e3);
+    if (cs->describe)
+        cs->describe(cost_ctx, stdout);
     printf("  latency: tracker %.1f ms + frame + display %.1f ms; mean sample age at display "
            "%.1f ms\n", p->tracker_latency_s * 1e3, p->display_latency_s * 1e3,
            s->mean_latency_s * 1e3);
@@ -466,7 +490,7 @@ static pp5_status_t run_replay(replay_cli_t *o, const char *path)
     replay_result_t r;
     st = replay_run(&t, &o->p, cs->cost, ctx, o->frames_dir ? save_frame : NULL, &fo, &r);
     if (st == PP5_OK) {
-        print_summary(path, &t, &o->p, cs, cost_options, &r.summary);
+        print_summary(path, &t, &o->p, cs, ctx, cost_options, &r.summary);
         if (o->frames_dir)
             printf("  frames written to %s: %zu (the cost source renders %s)\n", o->frames_dir,
                    fo.written, fo.written ? "images" : "no images");
@@ -475,7 +499,7 @@ static pp5_status_t run_replay(replay_cli_t *o, const char *path)
         if (st == PP5_OK && o->csv)
             st = write_csv(o->csv, &r);
         if (st == PP5_OK && o->report)
-            st = write_report(o->report, path, &t, &o->p, cs, cost_options, &r.summary);
+            st = write_report(o->report, path, &t, &o->p, cs, ctx, cost_options, &r.summary);
         if (st == PP5_OK && o->plot)
             st = write_plot(o->plot, &r);
         replay_result_free(&r);
@@ -498,6 +522,33 @@ void replay_cli_defaults(replay_cli_t *o)
              replay_find_cost_source("machine") ? "machine" : "constant");
 }
 
+/* --scene FILE / --mesh FILE as the polygons source's scene=/mesh= option,
+ * added to --cost polygons:OPTIONS when that was given.  Cleared once
+ * folded, so a batch line parsed on top of these options adds it once. */
+static pp5_status_t fold_scene(replay_cli_t *o)
+{
+    if (!o->scene && !o->mesh)
+        return PP5_OK;
+    if (o->scene && o->mesh)
+        return pp5_fail(PP5_E_CONFIG, "--scene and --mesh: give one of them");
+    const char *key = o->scene ? "scene" : "mesh", *file = o->scene ? o->scene : o->mesh;
+    size_t name_len = strcspn(o->cost_spec, ":");
+    bool polygons = name_len == 8 && strncmp(o->cost_spec, "polygons", 8) == 0;
+    if (o->cost_given && !polygons)
+        return pp5_fail(PP5_E_CONFIG, "--%s draws with --cost polygons; it does not go with "
+                        "--cost %.*s", key, (int)name_len, o->cost_spec);
+    char spec[sizeof o->cost_spec];
+    int n = polygons && o->cost_spec[name_len] == ':' && o->cost_spec[name_len + 1]
+                ? snprintf(spec, sizeof spec, "%s,%s=%s", o->cost_spec, key, file)
+                : snprintf(spec, sizeof spec, "polygons:%s=%s", key, file);
+    if (n < 0 || (size_t)n >= sizeof spec)
+        return pp5_fail(PP5_E_CONFIG, "--%s %s: the name is too long", key, file);
+    memcpy(o->cost_spec, spec, sizeof spec);
+    o->cost_given = true;
+    o->scene = o->mesh = NULL;
+    return PP5_OK;
+}
+
 pp5_status_t replay_cli_parse(replay_cli_t *o, int argc, char **argv, bool *done, int *rc)
 {
     pp5_status_t st = PP5_OK;
@@ -509,7 +560,7 @@ pp5_status_t replay_cli_parse(replay_cli_t *o, int argc, char **argv, bool *done
     while (st == PP5_OK && !*done && (c = getopt_long(argc, argv, "h", replay_opts, NULL)) != -1)
         st = replay_cli_option(c, optarg, o, done, rc);
     opterr = 1;
-    return st;
+    return st == PP5_OK && !*done ? fold_scene(o) : st;
 }
 
 static int cmd_replay(int argc, char **argv)

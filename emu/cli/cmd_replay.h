@@ -29,6 +29,8 @@ pp5_status_t replay_sweep_latency(const trace_t *t, const replay_params_t *p,
 typedef struct {
     replay_params_t p;
     char cost_spec[256];          /* NAME[:OPTIONS] */
+    bool cost_given;              /* --cost or --frame-time-ms was given */
+    const char *scene, *mesh;     /* --scene / --mesh: folded into cost_spec after parsing */
     const char *report, *csv, *plot, *frames_dir, *live, *live_seconds;
     bool sweep;
     replay_sweep_t sw;

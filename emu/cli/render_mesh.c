@@ -9,7 +9,6 @@
 
 #include "json.h"
 #include "outfile.h"
-#include "render/mesh/mesh_gen.h"
 #include "render/mesh/mesh_lod.h"
 #include "render/mesh/mesh_render.h"
 #include "render/quality.h"
@@ -47,16 +46,8 @@ static const char *shading_name(raster_shading_t s)
 
 static pp5_status_t load(const render_cmd_t *c, mesh_scene_t *s)
 {
-    if (c->scene_file)
-        return mesh_scene_load(c->scene_file, s);
-    mesh_t m;
-    pp5_status_t st = strncmp(c->mesh_file, "gen:", 4) == 0 ? mesh_gen_by_name(c->mesh_file, &m)
-                                                             : mesh_load(c->mesh_file, &m);
-    if (st == PP5_OK && m.n_faces == 0)
-        st = pp5_fail(PP5_E_FORMAT, "%s: the mesh has no faces", c->mesh_file);
-    if (st != PP5_OK)
-        return st;
-    return mesh_scene_from_mesh(&m, s);
+    return c->scene_file ? mesh_scene_load(c->scene_file, s)
+                         : mesh_scene_load_mesh(c->mesh_file, s);
 }
 
 /* Renders variant k: full or LOD triangles, full or variable-resolution Z. */

@@ -16,6 +16,7 @@
 
 #include "firmware/host/poly_report.h"
 #include "firmware/host/poly_session.h"
+#include "firmware/host/poly_soup.h"
 #include "render/quality.h"
 #include "render_cmd.h"
 
@@ -35,7 +36,7 @@ static pp5_status_t machine_frame(const render_cmd_t *c, const render_mesh_frame
         return st;
     raster_style_t style;
     poly_options_t po;
-    poly_style_from_mesh_opts(f->opts, list, &style, &po);
+    poly_style_from_render_opts(f->opts, list, &style, &po);
     po.gaze = vrz;
     po.gaze_model = *f->gaze;
     po.gaze_x = f->gaze_x, po.gaze_y = f->gaze_y;

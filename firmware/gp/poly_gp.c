@@ -96,9 +96,16 @@ static fw_status_t poly_start(gp_t *gp)
 
 static fw_status_t take_triangles(gp_t *gp, poly_state_t *s, const ring_msg_t *msg)
 {
-    if (msg->payload_bytes % sizeof(poly_tri_in_t) != 0 || s->in)
-        return fw_fail(gp, "polygons: a triangle message of %zu bytes (or a second one)",
-                       msg->payload_bytes);
+    if (msg->payload_bytes % sizeof(poly_tri_in_t) != 0)
+        return fw_fail(gp, "polygons: a triangle message of %zu bytes", msg->payload_bytes);
+    /* A later message replaces the list between frames (the host changed the
+     * levels of detail): the old list and its screen-triangle table go back
+     * to the memory pool before the new ones are taken. */
+    fw_free(gp, s->in);
+    fw_free(gp, s->tri);
+    s->in = NULL;
+    s->tri = NULL;
+    s->n_tri = 0;
     s->n_in = (uint32_t)(msg->payload_bytes / sizeof(poly_tri_in_t));
     s->in = fw_alloc(gp, msg->payload_bytes + 1);
     if (!s->in)

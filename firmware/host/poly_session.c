@@ -80,8 +80,10 @@ static pp5_status_t send_gp(poly_session_t *s, unsigned g, uint32_t sub, const v
     return machine_send(&s->m, &msg, s->m.sched.now);
 }
 
-/* Deals the triangles round-robin and loads every GP. */
-static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_t n)
+/* Deals the triangles round-robin to every GP, loading the program first
+ * when load_program (else the GPs replace the lists they hold). */
+static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_t n,
+                             bool load_program)
 {
     unsigned G = s->m.n_gp;
     poly_tri_in_t *share = malloc(sizeof *share * (n / G + 1));
@@ -94,12 +96,26 @@ static pp5_status_t load_gps(poly_session_t *s, const poly_tri_in_t *tris, size_
             share[m++] = tris[i];
         poly_config_t c = s->cfg;
         c.n_triangles = (int32_t)m;
-        st = machine_load_program(&s->m, g, &poly_program, &c, sizeof c);
+        if (load_program)
+            st = machine_load_program(&s->m, g, &poly_program, &c, sizeof c);
         if (st == PP5_OK)
             st = send_gp(s, g, POLY_MSG_TRIANGLES, share, m * sizeof *share);
     }
     free(share);
     return st;
+}
+
+static pp5_status_t check_triangles(const poly_tri_in_t *tris, size_t n)
+{
+    if (n > (size_t)INT32_MAX / 2)
+        return pp5_fail(PP5_E_RANGE, "polygons: %zu triangles is too many", n);
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++)
+                if (!isfinite(tris[i].p[k][d]) || !isfinite(tris[i].n[k][d]))
+                    return pp5_fail(PP5_E_RANGE, "polygons: triangle %zu has a coordinate that is "
+                                    "not finite", i);
+    return PP5_OK;
 }
 
 pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const poly_tri_in_t *tris,
@@ -113,14 +129,9 @@ pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const p
         width > 2048)
         return pp5_fail(PP5_E_RANGE, "polygons: image %dx%d does not fit the %ux%u frame buffer",
                         width, height, p->fb_width, p->fb_height);
-    if (n > (size_t)INT32_MAX / 2)
-        return pp5_fail(PP5_E_RANGE, "polygons: %zu triangles is too many", n);
-    for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++)
-            for (int d = 0; d < 3; d++)
-                if (!isfinite(tris[i].p[k][d]) || !isfinite(tris[i].n[k][d]))
-                    return pp5_fail(PP5_E_RANGE, "polygons: triangle %zu has a coordinate that is "
-                                    "not finite", i);
+    pp5_status_t st = check_triangles(tris, n);
+    if (st != PP5_OK)
+        return st;
     s->n_tris = (uint32_t)n;
     if (o->gaze && !(isfinite(o->gaze_x) && isfinite(o->gaze_y) && fabs(o->gaze_x) <= 1e6 &&
                      fabs(o->gaze_y) <= 1e6))
@@ -128,11 +139,11 @@ pp5_status_t poly_session_init(poly_session_t *s, const pp5_params_t *p, const p
                         o->gaze_x, o->gaze_y);
     s->gaze_x = o->gaze_x, s->gaze_y = o->gaze_y;
     make_config(s, width, height, cam, style);
-    pp5_status_t st = machine_init(&s->m, p);
+    st = machine_init(&s->m, p);
     if (st != PP5_OK)
         return st;
     s->m_ok = true;
-    st = load_gps(s, tris, n);
+    st = load_gps(s, tris, n, true);
     sched_stop_t stop = SCHED_STOP_IDLE;
     if (st == PP5_OK)
         st = machine_run_setup(&s->m, &stop);
@@ -182,38 +193,6 @@ pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size
     return PP5_OK;
 }
 
-pp5_status_t poly_triangles_from_soup(const mesh_soup_t *s, poly_tri_in_t **out)
-{
-    *out = calloc(s->n_tris > 0 ? (size_t)s->n_tris : 1, sizeof **out);
-    if (!*out)
-        return pp5_fail(PP5_E_NOMEM, "polygons: out of memory for %d triangles", s->n_tris);
-    for (int t = 0; t < s->n_tris; t++)
-        for (int k = 0; k < 3; k++)
-            for (int d = 0; d < 3; d++) {
-                (*out)[t].p[k][d] = (float)s->pos[9 * t + 3 * k + d];
-                (*out)[t].n[k][d] = (float)s->nrm[9 * t + 3 * k + d];
-            }
-    return PP5_OK;
-}
-
-void poly_style_from_mesh_opts(const mesh_render_opts_t *o, const mesh_soup_t *s,
-                               raster_style_t *st, poly_options_t *po)
-{
-    raster_style_default(st, o->shading);
-    for (int k = 0; k < 3; k++) {
-        st->light_dir[k] = o->light_dir[k];
-        st->front_rgb[k] = st->back_rgb[k] =
-            (uint8_t)(s->n_tris > 0 ? 255.0 * s->rgb[k] + 0.5 : 200);
-    }
-    st->ambient = o->ambient;
-    st->diffuse = o->diffuse;
-    poly_options_default(po);
-    po->shading = o->shading == RASTER_PHONG ? POLY_PHONG
-                  : o->shading == RASTER_GOURAUD ? POLY_GOURAUD : POLY_FLAT;
-    po->cull_back = o->cull_back;
-    memcpy(po->background, o->background, 3);
-}
-
 pp5_status_t poly_session_init_mesh(poly_session_t *s, const pp5_params_t *p, const mesh_t *m,
                                     int width, int height, const raster_camera_t *cam,
                                     const raster_style_t *style, const poly_options_t *o)
@@ -261,6 +240,21 @@ pp5_status_t poly_session_set_gaze(poly_session_t *s, double gaze_x, double gaze
         c.n_triangles = 0;      /* not read after the start */
         st = send_gp(s, g, POLY_MSG_CONFIG, &c, sizeof c);
     }
+    return st;
+}
+
+pp5_status_t poly_session_set_triangles(poly_session_t *s, const poly_tri_in_t *tris, size_t n)
+{
+    pp5_status_t st = check_triangles(tris, n);
+    if (st != PP5_OK)
+        return st;
+    /* The host's messages are counted when they are queued (emu/ring.c), so
+     * the bytes are taken here; their transfer happens in the next frame. */
+    uint64_t bytes0 = ring_total_bytes_sent(&s->m.ring);
+    st = load_gps(s, tris, n, false);
+    s->upload_ring_bytes = ring_total_bytes_sent(&s->m.ring) - bytes0;
+    if (st == PP5_OK)
+        s->n_tris = (uint32_t)n;
     return st;
 }
 
@@ -328,11 +322,10 @@ static void gather_units(const poly_session_t *s, const stats_t *f, poly_frame_r
     double ch_sum = 0;
     for (unsigned c = 0; c < s->params.ring_channels; c++)
         ch_sum += stats_valuef(f, "ring.by_channel.%u.busy_s", c);
-    const machine_frame_t *mf = &s->m.frames[s->m.n_frames - 1];
     for (unsigned k = 0; k < RING_CLASS_COUNT; k++) {
         r->ring_bytes[k] = (uint64_t)stats_valuef(f, "ring.by_class.%s.bytes_sent", stats_class_name(k));
         r->ring_bytes_total += r->ring_bytes[k];
-        r->ring_class_busy_s[k] = ticks_to_s(mf->busy_by_class[k]);
+        r->ring_class_busy_s[k] = stats_valuef(f, "ring.by_class.%s.busy_s", stats_class_name(k));
     }
     double T = r->frame_time_s;
     r->ring_util_total = T > 0 ? ch_sum / (s->params.ring_channels * T) : 0;
@@ -395,8 +388,9 @@ pp5_status_t poly_session_frame(poly_session_t *s, image8_t *img, poly_frame_res
     stats_free(&before);
     if (st != PP5_OK)
         return st;
-    const machine_frame_t *mf = &m->frames[m->n_frames - 1];
-    r->frame_time_s = ticks_to_s(mf->end_ps - mf->start_ps);
+    /* the machine keeps MACHINE_MAX_FRAMES frame records; the scheduler's
+     * clock (left at the frame's last activity) serves any number of frames */
+    r->frame_time_s = ticks_to_s(m->sched.now - t0);
     gather_gps(s, &f, t0, r);
     gather_units(s, &f, r);
     stats_free(&f);

@@ -15,7 +15,6 @@
 #include "machine.h"
 #include "render/gaze2d.h"
 #include "render/mesh/mesh_raster.h"
-#include "render/mesh/mesh_render.h"
 
 typedef struct {
     poly_shading_t shading;     /* flat, Gouraud (per-vertex light) or Phong (per pixel in the PPs) */
@@ -80,6 +79,7 @@ typedef struct {
     poly_config_t cfg;                    /* as sent (n_triangles is each GP's own) */
     uint32_t n_tris;
     double load_s;                        /* emulated time of the load (program and triangles) */
+    uint64_t upload_ring_bytes;           /* the last poly_session_set_triangles's wire bytes */
     unsigned frames;
     double gaze_x, gaze_y;                /* image pixels (gaze-directed frames) */
     poly_frame_result_t last;
@@ -99,17 +99,18 @@ pp5_status_t poly_session_init_mesh(poly_session_t *s, const pp5_params_t *p, co
                                     const raster_style_t *style, const poly_options_t *o);
 /* The mesh's triangles as the session deals them (caller frees *out). */
 pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size_t *n);
-/* A native frame's triangle list as the session deals it (caller frees
- * *out), and its light and colours as the pipeline takes them (one surface
- * colour: the list's first object's). */
-pp5_status_t poly_triangles_from_soup(const mesh_soup_t *s, poly_tri_in_t **out);
-void poly_style_from_mesh_opts(const mesh_render_opts_t *o, const mesh_soup_t *s,
-                               raster_style_t *st, poly_options_t *po);
 /* One frame; img (may be NULL) is allocated here. */
 pp5_status_t poly_session_frame(poly_session_t *s, image8_t *img, poly_frame_result_t *r);
 /* A new gaze point (image pixels) for the next gaze-directed frames (the GPs
  * get it over the ring). */
 pp5_status_t poly_session_set_gaze(poly_session_t *s, double gaze_x, double gaze_y);
+/* A new triangle list for the next frames, dealt as poly_session_init
+ * deals it.  The host queues it on the ring now; the GPs take it (free the
+ * old list, store the new) before the next frame's start reaches them, so
+ * its transfer and storing fall inside the next frame's time.  Its wire
+ * bytes are left in s->upload_ring_bytes: the ring counts bytes when they
+ * are queued, before that frame's figures start. */
+pp5_status_t poly_session_set_triangles(poly_session_t *s, const poly_tri_in_t *tris, size_t n);
 /* A new camera for the next frames (the GPs get it over the ring). */
 pp5_status_t poly_session_set_camera(poly_session_t *s, const raster_camera_t *cam);
 void poly_session_free(poly_session_t *s);

@@ -21,6 +21,7 @@
 
 #include "cliopt.h"
 #include "firmware/host/fw_session.h"
+#include "firmware/host/replay_options.h"
 #include "render/render_job.h"
 #include "render/scene.h"
 #include "render/volume.h"
@@ -43,17 +44,16 @@ typedef struct {
 typedef struct {
     char volume[64];      /* "phantom" (Shepp-Logan) or "mrbrain" */
     int width, height;
-    char preset[64];
     char lighting[32];
     fw_options_t fw;      /* division=, split=, plan=, level_tables= */
-    pp5_params_cli_t params;   /* machine parameters given as NAME=VALUE */
-    char sets[PP5_PARAMS_MAX_SETS][128];
+    replay_machine_params_t mp;   /* preset= and machine parameters given as NAME=VALUE */
 } machine_cost_opts_t;
 
 /* One KEY=VALUE item of --cost machine:...: the source's own keys, the
  * firmware's settings, or any machine parameter. */
-static pp5_status_t parse_item(const char *item, machine_cost_opts_t *o)
+static pp5_status_t parse_item(void *ctx, const char *item)
 {
+    machine_cost_opts_t *o = ctx;
     const char *eq = strchr(item, '=');
     if (!eq)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: expected KEY=VALUE, got '%s' "
@@ -70,7 +70,7 @@ static pp5_status_t parse_item(const char *item, machine_cost_opts_t *o)
     if (klen == 4 && strncmp(item, "size", 4) == 0)
         return cliopt_size2("--cost machine: size", value, 16, 1280, &o->width, &o->height);
     if (klen == 6 && strncmp(item, "preset", 6) == 0) {
-        snprintf(o->preset, sizeof o->preset, "%s", value);
+        snprintf(o->mp.preset, sizeof o->mp.preset, "%s", value);
         return PP5_OK;
     }
     if (is_lighting && (strcmp(value, "diffuse") == 0 || strcmp(value, "specular") == 0 ||
@@ -80,24 +80,18 @@ static pp5_status_t parse_item(const char *item, machine_cost_opts_t *o)
     }
     /* set=PARAM=VALUE spells a machine parameter the way `pp5 machine --set`
      * takes it; a bare PARAM=VALUE means the same. */
-    if (klen == 3 && strncmp(item, "set", 3) == 0) {
-        if (!strchr(value, '='))
-            return pp5_fail(PP5_E_CONFIG, "--cost machine: set= wants PARAM=VALUE, got '%s'",
-                            value);
-        item = value;
-    }
+    pp5_status_t st = replay_machine_params_unwrap("--cost machine", &item);
+    if (st != PP5_OK)
+        return st;
     bool taken = false;
     if (is_volume || is_lighting)
         return pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s (volume=phantom|mrbrain, "
                         "lighting=diffuse|specular|moving)", item);
-    pp5_status_t st = fw_options_set(&o->fw, item, &taken);
+    st = fw_options_set(&o->fw, item, &taken);
     if (st != PP5_OK || taken)
         return st;
-    if (o->params.n_sets < PP5_PARAMS_MAX_SETS && strlen(item) < sizeof o->sets[0]) {
-        char *copy = o->sets[o->params.n_sets];
-        snprintf(copy, sizeof o->sets[0], "%s", item);
-        return pp5_params_cli_add_set(&o->params, copy);
-    }
+    if (replay_machine_params_add(&o->mp, item))
+        return PP5_OK;
     return pp5_fail(PP5_E_CONFIG, "--cost machine: bad option %s (volume=phantom|mrbrain, "
                     "size=WxH, preset=NAME, lighting=diffuse|specular|moving, division=NAME, "
                     "split=pp|gp, or a machine parameter NAME=VALUE)", item);
@@ -108,21 +102,10 @@ static pp5_status_t parse_options(const char *text, machine_cost_opts_t *o)
     memset(o, 0, sizeof *o);
     snprintf(o->volume, sizeof o->volume, "phantom");
     o->width = o->height = 210;
-    snprintf(o->preset, sizeof o->preset, "default");
+    replay_machine_params_init(&o->mp);
     snprintf(o->lighting, sizeof o->lighting, "diffuse");
     fw_options_default(&o->fw);
-    char buf[2048];
-    if (strlen(text) >= sizeof buf)
-        return pp5_fail(PP5_E_CONFIG, "--cost machine: options too long");
-    snprintf(buf, sizeof buf, "%s", text);
-    for (char *save = NULL, *item = strtok_r(buf, ",", &save); item;
-         item = strtok_r(NULL, ",", &save)) {
-        pp5_status_t st = parse_item(item, o);
-        if (st != PP5_OK)
-            return st;
-    }
-    o->params.preset = o->preset;
-    return PP5_OK;
+    return replay_options_each("--cost machine", text, parse_item, o);
 }
 
 /* The volume the paper projects for (§6: 128x128x109): the Shepp-Logan phantom
@@ -243,12 +226,10 @@ static pp5_status_t machine_cost_open(const char *options, const gaze_geometry_t
     st = load_volume(&o, c);
     pp5_params_t params;
     if (st == PP5_OK)
-        st = pp5_params_build(&o.params, &params);
-    if (st == PP5_OK)
-        st = pp5_params_validate(&params);
+        st = replay_machine_params_build(&o.mp, &params);
     if (st == PP5_OK) {
         fprintf(stderr, "machine: setting up the gaze-directed renderer (%s 128x128x109, %dx%d "
-                "image, preset %s, division %s)...\n", o.volume, o.width, o.height, o.preset,
+                "image, preset %s, division %s)...\n", o.volume, o.width, o.height, o.mp.preset,
                 fw_division_name(o.fw.division));
         render_job_t job = {.volume = &c->volume, .volume_name = c->volume.source, .tf = c->tf,
                             .shade = c->shade, .settings = c->settings, .frames = 1};

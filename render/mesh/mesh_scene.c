@@ -182,6 +182,20 @@ pp5_status_t mesh_scene_load(const char *path, mesh_scene_t *s)
     return mesh_scene_read_file(path, s);
 }
 
+pp5_status_t mesh_scene_load_mesh(const char *path, mesh_scene_t *s)
+{
+    mesh_t m;
+    pp5_status_t st = strncmp(path, "gen:", 4) == 0 ? mesh_gen_by_name(path, &m)
+                                                     : mesh_load(path, &m);
+    if (st == PP5_OK && m.n_faces == 0) {
+        mesh_free(&m);
+        st = pp5_fail(PP5_E_FORMAT, "%s: the mesh has no faces", path);
+    }
+    if (st != PP5_OK)
+        return st;
+    return mesh_scene_from_mesh(&m, s);
+}
+
 static void xform_point(const double m[16], const double p[3], double out[3])
 {
     for (int i = 0; i < 3; i++)

@@ -66,6 +66,9 @@ pp5_status_t mesh_scene_load(const char *path, mesh_scene_t *s);
  * (25 x 21) and a torus (25 x 20) of 1,000 faces each, turned and coloured
  * by their grid position: 100,000 triangles, two meshes, no external data. */
 pp5_status_t mesh_scene_builtin(const char *name, mesh_scene_t *s);
+/* A mesh file (.obj/.off/.ply[.gz]) or gen:NAME (mesh_gen_by_name) as a
+ * one-object scene (mesh_scene_from_mesh); a mesh without faces is an error. */
+pp5_status_t mesh_scene_load_mesh(const char *path, mesh_scene_t *s);
 /* One mesh (taken over: *m is left empty) as a scene: identity transform,
  * grey, two-sided (no culling), the camera fitted. */
 pp5_status_t mesh_scene_from_mesh(mesh_t *m, mesh_scene_t *s);
