@@ -252,7 +252,7 @@ $(BUILD)/tests/%.o: CFLAGS_ALL += $(TEST_CFLAGS)
 # The tests that call the GP programs' kernels (firmware/gp/vr_*_kernels.h,
 # poly_kernels.h), whose includes are written for the firmware's include path.
 $(BUILD)/tests/test_fw_cost.o $(BUILD)/tests/test_fw_blend.o $(BUILD)/tests/test_fw_poly_cost.o \
-$(BUILD)/tests/test_fw_poly.o $(BUILD)/tests/test_fw_poly_vrz.o: CFLAGS_ALL += $(addprefix -iquote ,$(FW_IQUOTE))
+$(BUILD)/tests/test_fw_poly.o $(BUILD)/tests/test_fw_poly_vrz.o $(BUILD)/tests/test_fw_poly_colours.o: CFLAGS_ALL += $(addprefix -iquote ,$(FW_IQUOTE))
 $(BUILD)/tests/test_layers.o: CFLAGS_ALL += -DPP5_LAYERS_LIB_IQUOTE='"$(LIB_IQUOTE)"' \
     -DPP5_LAYERS_FW_IQUOTE='"$(FW_IQUOTE)"' -DPP5_LAYERS_GEN_DIR='"$(GEN)"'
 $(TEST_BIN): LDLIBS_ALL += $(TEST_LIBS)

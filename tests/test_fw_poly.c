@@ -569,7 +569,7 @@ TEST(fw_poly_phong_stream_matches_float_shading)
     const int32_t front[3] = {214, 208, 196}, back[3] = {150, 96, 84};
     pp_stream_t st;
     pp_stream_init(&st);
-    poly_phong_stream(&st, light, 0.18f, 0.82f, front, back);
+    poly_phong_stream(&st, light, 0.18f, 0.82f, front, back, false);
     REQUIRE(pp_stream_ok(&st));
     renderer_exec_result_t res;
     REQUIRE(renderer_execute(&r, st.words, st.n_words, &res) == PP5_OK);

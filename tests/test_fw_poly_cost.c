@@ -76,6 +76,7 @@ static poly_tri_in_t *cost_scene(size_t *n, int W)
     };
     for (int k = 0; k < 4; k++) {
         poly_tri_in_t *q = &t[ns + k];
+        q->rgb = k == 0 ? POLY_RGB_OWN | 0x204080u : 0;   /* one with its own colour */
         for (int c = 0; c < 3; c++)
             for (int d = 0; d < 3; d++) {
                 q->p[c][d] = special[k][3 * c + d];
@@ -186,6 +187,7 @@ TEST(fw_poly_cost_rows_match_their_kernels)
         gaze_display_defaults(&gd);
         REQUIRE(gaze_model_init(&o.gaze_model, &gd, W, W) == PP5_OK);
         o.gaze = true;
+        o.colour_per_pixel = sh == POLY_PHONG;
         o.gaze_x = 0.3 * W, o.gaze_y = 0.6 * W;
         poly_session_t s;
         REQUIRE_MSG(poly_session_init(&s, &p, in, 1, W, W, &cam, &style, &o) == PP5_OK, "%s",
@@ -218,7 +220,7 @@ TEST(fw_poly_cost_rows_match_their_kernels)
         }
         vrz_kernels(&c, tri, nt, &sp, cnt, &st);
         size_t w0 = st.n_words;
-        poly_phong_stream(&st, c.light, c.ambient, c.diffuse, c.front_rgb, c.back_rgb);
+        poly_phong_stream(&st, c.light, c.ambient, c.diffuse, c.front_rgb, c.back_rgb, false);
         poly_words(st.n_words - w0, &sp, cnt);
         poly_grow_moved(30, &sp, cnt);
         CHECK(pp_stream_ok(&st));

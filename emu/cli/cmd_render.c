@@ -66,7 +66,7 @@ static void render_usage(void)
            "                        full, LOD-only and VRZ-only frames and the savings table\n"
            "                        (one host thread; --out and --report as for volumes)\n"
            "                        --machine: the frame on the machine's polygon pipeline\n"
-           "                        (levels of detail when gaze-directed, one colour), its\n"
+           "                        (gaze-directed: the levels of detail into its VRZ), its\n"
            "                        frame report and the agreement with the native frame\n"
            "Outputs:\n"
            "  --out FILE.png        the image\n"

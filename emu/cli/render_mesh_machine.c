@@ -7,9 +7,8 @@
  * (firmware/gp/poly_vrz.c); with --compare it also runs full detail at full
  * resolution, each saving alone, and prints the savings table.
  *
- * The pipeline's configuration carries one surface colour for the frame
- * (the first object's), where scenes colour each object: printed with the
- * result. */
+ * Each object keeps its colour (poly_soup.h); the machine lights ambient +
+ * diffuse only (no specular term). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,8 +103,9 @@ pp5_status_t render_mesh_machine(const render_cmd_t *c, const render_mesh_frame_
                 "diff %d, %ld of %ld covered pixels drawn by one image only\n", list->n_tris,
                 vrz ? " (its variable-resolution Z-buffer)" : "", cmp.psnr_db, cmp.max_abs_diff,
                 cmp.covered_one_only, cmp.covered_native);
-        fprintf(log, "  (the machine draws every object in the first object's colour; scenes "
-                "with several colours differ there)\n");
+        if (f->opts->specular > 0)
+            fprintf(log, "  (the machine has no specular term: the native frame's highlights "
+                    "differ)\n");
     }
     if (st == PP5_OK && c->out_png)
         st = png_write(c->out_png, &img);

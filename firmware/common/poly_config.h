@@ -74,8 +74,12 @@ typedef struct {
     float view[16];                 /* camera from world (normals: its 3x3) */
     float light[3];                 /* toward the light, camera space, unit */
     float ambient, diffuse;
-    int32_t front_rgb[3], back_rgb[3];
+    int32_t front_rgb[3], back_rgb[3];  /* for triangles without their own colour */
     uint32_t background_rgb[3];
+    /* Phong with colours per triangle: each triangle writes its side's
+     * colour into R, G, B, and the shading reads it there per pixel
+     * (pp/poly_phong_pp.c); 0: the front and back colours as constants. */
+    int32_t colour_per_pixel;
     /* Gaze-directed frames: the variable-resolution Z-buffer of the gaze
      * paper's §7 (seed 004; firmware/ARCHITECTURE.md "Polygons").  The
      * acuity model's constants are render/gaze2d.h gaze_model_t's, from the
@@ -89,11 +93,16 @@ typedef struct {
     float g_level_far;              /* 2DLevel past g_r_max_px (gaze_model_t level_edge) */
 } poly_config_t;
 
-/* One input triangle (world space): corners and their unit normals. */
+/* One input triangle (world space): corners and their unit normals, and
+ * its own surface colour for both sides (a scene object's: R | G << 8 |
+ * B << 16 | POLY_RGB_OWN) or 0 for the configuration's front and back
+ * colours. */
 typedef struct {
     float p[3][3];
     float n[3][3];
+    uint32_t rgb;
 } poly_tri_in_t;
+#define POLY_RGB_OWN (1u << 24)
 
 /* GP_USER sub-kinds (args[0]). */
 enum {

@@ -22,7 +22,9 @@
 
 #define POLY_COST_ROWS(X) \
     /* ---- per vertex and per triangle (transform, light, clip, project) ---- */ \
-    X(TRI, (.loads = 1, .int_ops = 2, .branches = 1 + 1 + 1), "a triangle: its record, the loop, the flat and clipped tests") \
+    X(TRI, (.loads = 2, .int_ops = 2, .branches = 4), "a triangle: its record, the loop, the flat, clipped and own-colour tests") \
+    X(OWN_COLOUR, (.int_ops = 6), "a triangle's own colour unpacked") \
+    X(PHONG_COLOUR, (.int_ops = 4), "Phong per pixel: the side's colour packed") \
     X(VERTEX, (.loads = 19, .fmul = 12, .fadd = 12, .stores = 4, .branches = 1), "a corner to clip space") \
     X(NORMAL, (.loads = 12, .fmul = 12, .fadd = 9, .fsqrt = 1, .branches = 1), "a corner's normal to camera space, its length") \
     X(NORMAL_SCALE, (.fdiv = 1, .fmul = 3), "a normal normalised") \
@@ -69,7 +71,8 @@
     X(ENC_Z, (.branches = 2), "the depth test sent") \
     X(ENC_FLAT, (.loads = 1), "flat: the colour sent") \
     X(ENC_CHANNEL, (.int_ops = 1, .branches = 2), "a colour or normal channel sent") \
-    X(ENC_PHONG_FLAGS, (.loads = 1), "Phong: the covered and back bits sent") \
+    X(ENC_PHONG_FLAGS, (.loads = 1, .branches = 1), "Phong: the covered and back bits sent, the colour test") \
+    X(ENC_PHONG_COLOUR, (.loads = 1), "Phong per pixel: the triangle's colour sent") \
     X(ENC_WORD, (.int_ops = 2, .stores = 1), "a word of a PP stream assembled and stored") \
     /* ---- gaze-directed frames: the variable-resolution Z-buffer ---- */ \
     X(VRZ_LEVEL_FAR, (.fadd = 2, .branches = 2), "2DLevel: the periphery test (gaze_level's own value past it)") \

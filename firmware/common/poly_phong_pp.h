@@ -12,16 +12,20 @@
  *   c = max(0, D) r (2^28 = 1, kept as 2^14 = 1),
  *   each channel min(255, floor(c Kd + Ka)) with Kd = round(rgb diffuse 2^8),
  *       Ka = round((rgb ambient + 0.5) 2^22): the front colour where the back
- *       bit is clear, the back colour where it is set.
+ *       bit is clear, the back colour where it is set; or, with colours per
+ *       pixel (each triangle wrote its side's colour into R, G, B), each
+ *       channel min(255, floor(I ch + 0.5)) with I = c diffuse + ambient.
  * Fields: common/poly_config.h (POLY_PP_*). */
 #ifndef PP5_POLY_PHONG_PP_H
 #define PP5_POLY_PHONG_PP_H
+
+#include <stdbool.h>
 
 #include "poly_config.h"
 #include "pp_encode.h"
 
 /* Appends the shading stream for light `light` (camera space, unit). */
 void poly_phong_stream(pp_stream_t *s, const float light[3], float ambient, float diffuse,
-                       const int32_t front_rgb[3], const int32_t back_rgb[3]);
+                       const int32_t front_rgb[3], const int32_t back_rgb[3], bool per_pixel);
 
 #endif

@@ -281,7 +281,7 @@ static fw_status_t build_phong(gp_t *gp, poly_state_t *s)
     pp_stream_t st;
     pp_stream_init(&st);
     poly_phong_stream(&st, s->cfg.light, s->cfg.ambient, s->cfg.diffuse, s->cfg.front_rgb,
-                      s->cfg.back_rgb);
+                      s->cfg.back_rgb, s->cfg.colour_per_pixel != 0);
     fw_status_t rc = pp_stream_ok(&st) ? FW_OK
                      : fw_fail(gp, "polygons: Phong stream: %s", pp_stream_error(&st));
     if (rc == FW_OK && !(s->phong = fw_alloc(gp, st.n_words * sizeof *s->phong)))

@@ -36,7 +36,7 @@ typedef struct {
     int32_t own[3];              /* edge k (opposite corner k) owns its pixels */
     int32_t back;                /* seen from behind */
     int32_t rx0, ry0, rx1, ry1;  /* regions of the box, inclusive */
-    uint32_t flat_rgb;           /* flat: R | G << 8 | B << 16 */
+    uint32_t flat_rgb;           /* flat: the lit colour; Phong per pixel: the side's colour (R | G << 8 | B << 16) */
     float x0, y0;                /* corner 0 in pixels */
     float plane[4][3];           /* z (scaled to 24 bits), then colour or normal channels */
 } poly_tri_t;
@@ -338,8 +338,9 @@ static inline int poly_triangle(const poly_config_t *c, const poly_tri_in_t *in,
     if (c->shading == POLY_FLAT)
         poly_face_light(c, in->p, flat, sp, cnt);
     int n = poly_clip(v, poly, sp, cnt);
-    /* the record's address; the loop; the flat test; the clipped test */
-    POLY_SPAN(sp, cnt, TRI, .loads = 1, .int_ops = 2, .branches = 1 + 1 + 1);
+    /* the record's address; the loop; the flat test; the clipped test; the
+     * own-colour word and its test */
+    POLY_SPAN(sp, cnt, TRI, .loads = 1 + 1, .int_ops = 2, .branches = 1 + 1 + 1 + 1);
     if (n < 3)
         return 0;
     poly_screen_t sv[POLY_CLIP_MAX];
@@ -354,6 +355,14 @@ static inline int poly_triangle(const poly_config_t *c, const poly_tri_in_t *in,
         return 0;
     float vals[POLY_CLIP_MAX][4];
     const int32_t *rgb = front ? c->front_rgb : c->back_rgb;
+    int32_t own[3];
+    if (in->rgb & POLY_RGB_OWN) {
+        for (int k = 0; k < 3; k++)
+            own[k] = (int32_t)((in->rgb >> (8 * k)) & 0xffu);
+        rgb = own;
+        /* 3 shifts and masks, kept in registers */
+        POLY_SPAN(sp, cnt, OWN_COLOUR, .int_ops = 6);
+    }
     for (int i = 0; i < n; i++) {
         vals[i][0] = (float)POLY_Z_LO + (sv[i].z + 1.0f) * (float)POLY_Z_SCALE;
         /* z loaded, 2 adds 1 mul, stored; the shading test */
@@ -375,6 +384,11 @@ static inline int poly_triangle(const poly_config_t *c, const poly_tri_in_t *in,
         }
     }
     uint32_t flat_rgb = 0;
+    if (c->shading == POLY_PHONG && c->colour_per_pixel) {
+        flat_rgb = (uint32_t)rgb[0] | (uint32_t)rgb[1] << 8 | (uint32_t)rgb[2] << 16;
+        /* the packing (2 shifts, 2 ors) */
+        POLY_SPAN(sp, cnt, PHONG_COLOUR, .int_ops = 4);
+    }
     if (c->shading == POLY_FLAT) {
         float l = flat[front ? 0 : 1];
         l = l < 0 ? 0 : l;
@@ -593,7 +607,12 @@ static inline bool poly_encode(const poly_config_t *c, const poly_tri_t *t, int 
             pp_emit_f_st(st, POLY_PP_COVER);
             pp_emit_f_set(st, (unsigned)t->back);
             pp_emit_f_st(st, POLY_PP_BACK);
-            POLY_SPAN(sp, cnt, ENC_PHONG_FLAGS, .loads = 1);
+            /* the back bit's load; the colour test */
+            POLY_SPAN(sp, cnt, ENC_PHONG_FLAGS, .loads = 1, .branches = 1);
+            if (c->colour_per_pixel) {
+                pp_emit_seti(st, POLY_PP_R, 24, t->flat_rgb);
+                POLY_SPAN(sp, cnt, ENC_PHONG_COLOUR, .loads = 1);
+            }
         }
     }
     /* each word assembled (shift and or of its fields) and stored */

@@ -17,7 +17,7 @@ pp5_status_t poly_scene_triangles(size_t n, double area, int width, int height, 
     if (n < 1 || n > 50000000 || !(area > 0) || area > (double)width * height)
         return pp5_fail(PP5_E_RANGE, "polygon scene: %zu triangles of %g pixels on %dx%d", n, area,
                         width, height);
-    poly_tri_in_t *t = malloc(sizeof *t * n);
+    poly_tri_in_t *t = calloc(n ? n : 1, sizeof *t);   /* rgb 0: the style's colours */
     if (!t)
         return pp5_fail(PP5_E_NOMEM, "polygon scene: out of memory for %zu triangles", n);
     /* an equilateral triangle of area A has circumradius sqrt(4 A / (3 sqrt 3)) */

@@ -36,6 +36,7 @@ static void make_config(poly_session_t *s, int width, int height, const raster_c
     c->width = width, c->height = height;
     c->shading = s->opts.shading;
     c->cull_back = s->opts.cull_back;
+    c->colour_per_pixel = s->opts.colour_per_pixel;
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
             double acc = 0;
@@ -161,7 +162,7 @@ pp5_status_t poly_triangles_from_mesh(const mesh_t *m, poly_tri_in_t **out, size
     if (st != PP5_OK)
         return st;
     double *vn = calloc((size_t)m->n_vertices * 3 + 3, sizeof *vn);
-    poly_tri_in_t *t = malloc(sizeof *t * ((size_t)m->n_faces + 1));
+    poly_tri_in_t *t = calloc((size_t)m->n_faces + 1, sizeof *t);   /* rgb 0: the style's colours */
     if (!vn || !t) {
         free(vn);
         free(t);

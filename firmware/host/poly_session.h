@@ -19,6 +19,7 @@
 typedef struct {
     poly_shading_t shading;     /* flat, Gouraud (per-vertex light) or Phong (per pixel in the PPs) */
     bool cull_back;             /* drop back faces (default: two-sided, as mesh_raster) */
+    bool colour_per_pixel;      /* Phong: the triangles' own colours (poly_tri_in_t.rgb) per pixel */
     uint8_t background[3];
     /* Gaze-directed frames: the variable-resolution Z-buffer (gaze paper
      * §7, seed 004) with this acuity model's 2D levels, gazed at (gaze_x,

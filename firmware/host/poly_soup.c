@@ -15,6 +15,13 @@ pp5_status_t poly_triangles_from_soup(const mesh_soup_t *s, poly_tri_in_t **out)
                 (*out)[t].p[k][d] = (float)s->pos[9 * t + 3 * k + d];
                 (*out)[t].n[k][d] = (float)s->nrm[9 * t + 3 * k + d];
             }
+    /* the object's colour (the first corner's: a scene colours objects) */
+    for (int t = 0; t < s->n_tris; t++) {
+        uint32_t rgb = POLY_RGB_OWN;
+        for (int k = 0; k < 3; k++)
+            rgb |= (uint32_t)(255.0 * s->rgb[9 * t + k] + 0.5) << (8 * k);
+        (*out)[t].rgb = rgb;
+    }
     return PP5_OK;
 }
 
@@ -33,5 +40,6 @@ void poly_style_from_render_opts(const mesh_render_opts_t *o, const mesh_soup_t 
     po->shading = o->shading == RASTER_PHONG ? POLY_PHONG
                   : o->shading == RASTER_GOURAUD ? POLY_GOURAUD : POLY_FLAT;
     po->cull_back = o->cull_back;
+    po->colour_per_pixel = true;
     memcpy(po->background, o->background, 3);
 }

@@ -2,9 +2,11 @@
  * triangle list and the native renderer's light and colours) in the form
  * the machine's polygon pipeline takes (poly_session.h).
  *
- * The pipeline's configuration carries one surface colour for the frame:
- * the list's first triangle's (its object's) colour, grey for an empty
- * list; scenes that colour each object differ there from the native frame. */
+ * Each triangle carries its object's colour (poly_tri_in_t.rgb; Phong
+ * shades it per pixel), so a scene's objects keep their own colours; the
+ * configuration's front and back colours (the first object's, grey for an
+ * empty list) serve triangles without one.  Not carried: mesh_render's
+ * specular term (the pipeline lights ambient + diffuse). */
 #ifndef PP5_POLY_SOUP_H
 #define PP5_POLY_SOUP_H
 

@@ -36,8 +36,7 @@
  * default, as it makes a frame on Pixel-Planes 5 slower, not faster
  * (firmware/ARCHITECTURE.md "Variable-resolution Z-buffer").
  *
- * The machine draws every object in the first object's colour (one surface
- * colour per frame in the pipeline's configuration, poly_soup.h). */
+ * Each object keeps its own colour (poly_soup.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

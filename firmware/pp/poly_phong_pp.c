@@ -85,8 +85,34 @@ static void channels(pp_stream_t *s, int back, const int32_t rgb[3], float ambie
     }
 }
 
+/* Colours per pixel (each triangle wrote its side's colour into R, G, B):
+ * I = c Kd + Ka (2^28 = 1; Kd = round(diffuse 2^14), Ka = round(ambient
+ * 2^28)), kept in S as 16 bits (2^14 = 1, so ambient + diffuse < 4); then
+ * each channel min(255, floor(I ch + 0.5)), mesh_render's rgb I rounded. */
+static void channels_per_pixel(pp_stream_t *s, float ambient, float diffuse)
+{
+    static const unsigned out[3] = {POLY_PP_R, POLY_PP_G, POLY_PP_B};
+    int32_t kd = (int32_t)lrintf(diffuse * 16384.0f);
+    uint32_t ka = (uint32_t)lrint((double)ambient * 268435456.0);
+    enable_covered(s, -1);
+    pp_emit_muli(s, POLY_PP_D, 32, POLY_PP_P + 14, 16, false, kd);
+    pp_emit_addi(s, POLY_PP_D, POLY_PP_D, 32, ka);
+    pp_emit_copy(s, POLY_PP_S, POLY_PP_D + 14, 16);
+    for (int k = 0; k < 3; k++) {
+        pp_emit_seti(s, POLY_PP_W, 16, 0);
+        pp_emit_copy(s, POLY_PP_W, out[k], 8);
+        pp_emit_mul(s, POLY_PP_D, 32, POLY_PP_S, POLY_PP_W, 16, false);
+        pp_emit_addi(s, POLY_PP_D, POLY_PP_D, 32, 8192);
+        pp_emit_copy(s, out[k], POLY_PP_D + 14, 8);
+        pp_emit_cmpi(s, PP_CMP_GEU, POLY_PP_D, 32, 256u << 14);
+        pp_emit_en_and(s);
+        pp_emit_seti(s, out[k], 8, 255);
+        enable_covered(s, -1);
+    }
+}
+
 void poly_phong_stream(pp_stream_t *s, const float light[3], float ambient, float diffuse,
-                       const int32_t front_rgb[3], const int32_t back_rgb[3])
+                       const int32_t front_rgb[3], const int32_t back_rgb[3], bool per_pixel)
 {
     enable_covered(s, -1);
     dot_light(s, light);
@@ -98,7 +124,11 @@ void poly_phong_stream(pp_stream_t *s, const float light[3], float ambient, floa
     pp_emit_seti(s, POLY_PP_D, 32, 0);
     enable_covered(s, -1);
     pp_emit_mul(s, POLY_PP_P, 32, POLY_PP_D + 14, POLY_PP_RS, 16, false);
-    channels(s, 0, front_rgb, ambient, diffuse);
-    channels(s, 1, back_rgb, ambient, diffuse);
+    if (per_pixel) {
+        channels_per_pixel(s, ambient, diffuse);
+    } else {
+        channels(s, 0, front_rgb, ambient, diffuse);
+        channels(s, 1, back_rgb, ambient, diffuse);
+    }
     pp_emit_en_all(s);
 }
