@@ -131,7 +131,7 @@ TEST(replay_scene_frame_time_is_the_machines_cycles)
 
 /* The frame a fresh session draws for the list the levels rule gives at
  * image point (ix, iy) (pixel indices); *n_tris its triangles. */
-static void direct_frame(const char *scene_path, double ix, double iy, image8_t *img,
+static void direct_frame(const char *scene_path, double ix, double iy, bool vrz, image8_t *img,
                          int *n_tris)
 {
     mesh_scene_t scene;
@@ -155,6 +155,7 @@ static void direct_frame(const char *scene_path, double ix, double iy, image8_t 
     raster_style_t style;
     poly_options_t po;
     poly_style_from_render_opts(&ro, &soup, &style, &po);
+    po.gaze = vrz, po.gaze_model = g, po.gaze_x = ix, po.gaze_y = iy;
     pp5_params_t p;
     pp5_params_default(&p);
     p.n_gp = 2, p.n_renderers = 2;
@@ -193,7 +194,7 @@ TEST(replay_scene_image_equals_a_direct_session_frame)
         image8_t direct = {0};
         int n_direct = 0;
         direct_frame(scene, (gaze[k][0] - 640) * 0.05 + 31.5, (gaze[k][1] - 512) * 0.05 + 31.5,
-                     &direct, &n_direct);
+                     false, &direct, &n_direct);
         CHECK_EQ(info.triangles, n_direct);
         CHECK_MSG(memcmp(direct.pixels, c.image->pixels, 64 * 64 * 3) == 0,
                   "frame %d: the replayed image differs from the direct session's", k);
@@ -203,6 +204,35 @@ TEST(replay_scene_image_equals_a_direct_session_frame)
     CHECK_MSG(tris[1] < SPHERE_FACES && tris[1] > 0, "far from the sphere: %zu triangles",
               tris[1]);
     CHECK_EQ(tris[2], SPHERE_FACES);
+    cs->close(ctx);
+}
+
+/* vrz=on: each frame is a fresh session's gaze-directed frame (the same
+ * list, the variable-resolution Z-buffer with the sweet spot at the gaze),
+ * and far from the sphere it is not the full-resolution frame. */
+TEST(replay_scene_vrz_frames_are_the_sessions_gaze_directed_frames)
+{
+    const replay_cost_source_t *cs = poly_source();
+    void *ctx = open_scene("shading=gouraud,gp.count=2,renderer.count=2,vrz=on");
+    const char *scene = write_scene();
+    static const double gaze[2][2] = {{640, 512}, {0, 0}};
+    for (int k = 0; k < 2; k++) {
+        replay_frame_cost_t c = {.want_image = true};
+        REQUIRE(cs->cost(ctx, gaze[k][0], gaze[k][1], &c) == PP5_OK);
+        REQUIRE(c.image != NULL && c.image->width == 64 && c.image->height == 64);
+        double ix = (gaze[k][0] - 640) * 0.05 + 31.5, iy = (gaze[k][1] - 512) * 0.05 + 31.5;
+        image8_t vrz = {0}, full = {0};
+        int n = 0;
+        direct_frame(scene, ix, iy, true, &vrz, &n);
+        direct_frame(scene, ix, iy, false, &full, &n);
+        CHECK_MSG(memcmp(vrz.pixels, c.image->pixels, 64 * 64 * 3) == 0,
+                  "frame %d: the replayed image differs from the session's gaze-directed frame", k);
+        if (k == 1)
+            CHECK_MSG(memcmp(full.pixels, c.image->pixels, 64 * 64 * 3) != 0,
+                      "far from the sphere the gaze-directed frame is the full-resolution one");
+        image8_free(&vrz);
+        image8_free(&full);
+    }
     cs->close(ctx);
 }
 
