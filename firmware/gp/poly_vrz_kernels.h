@@ -37,8 +37,8 @@ static inline float poly_gaze_level(poly_state_t *s, double r, poly_count_t *cnt
  * a multiple of 2^l), clamped to n pixels. */
 static inline void poly_texel_readers(int a, int b, int l, int n, int *lo, int *hi)
 {
-    *lo = l == 0 ? a : ((a - 1) << l) + 1;
-    *hi = l == 0 ? b : ((b + 1) << l) - 1;
+    *lo = l == 0 ? a : (a - 1) * (1 << l) + 1;     /* a - 1 may be -1: no shift */
+    *hi = l == 0 ? b : (b + 1) * (1 << l) - 1;
     *lo = *lo < 0 ? 0 : *lo;
     *hi = *hi > n - 1 ? n - 1 : *hi;
 }
