@@ -136,6 +136,16 @@ static fw_status_t grow_triangles(gp_t *gp, poly_state_t *s)
     return FW_OK;
 }
 
+fw_status_t poly_reserve_list(gp_t *gp, poly_state_t *s, uint32_t pairs)
+{
+    if (pairs <= s->list_cap)
+        return FW_OK;
+    fw_free(gp, s->list);
+    s->list_cap = pairs + pairs / 4 + 16;
+    s->list = fw_alloc(gp, (size_t)s->list_cap * sizeof *s->list);
+    return s->list ? FW_OK : FW_ERROR;
+}
+
 /* Transform and set up every triangle, then sort them into regions (of the
  * populated levels, gaze-directed). */
 static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
@@ -157,13 +167,8 @@ static fw_status_t transform_and_sort(gp_t *gp, poly_state_t *s)
     for (uint32_t i = 0; i < s->n_tri; i++)
         poly_bin_count(&s->tri[i], s->regions_x, s->count, &s->sp, NULL);
     uint32_t pairs = poly_bin_prefix(s->count, s->start, s->fill, s->n_regions, &s->sp, NULL);
-    if (pairs > s->list_cap) {
-        fw_free(gp, s->list);
-        s->list_cap = pairs + pairs / 4 + 16;
-        s->list = fw_alloc(gp, (size_t)s->list_cap * sizeof *s->list);
-        if (!s->list)
-            return FW_ERROR;
-    }
+    if (poly_reserve_list(gp, s, pairs) != FW_OK)
+        return FW_ERROR;
     for (uint32_t i = 0; i < s->n_tri; i++)
         poly_bin_fill(&s->tri[i], i, s->regions_x, s->start, s->fill, s->list, &s->sp, NULL);
     fw_stat_add(gp, s->stat[POLY_STAT_PAIRS_BINNED], pairs);

@@ -56,6 +56,10 @@ typedef struct {
 /* Charges the spans counted so far and adds their cycles to statistic id. */
 void poly_charge(gp_t *gp, poly_state_t *s, int id);
 
+/* Room in s->list for `pairs` (triangle, region) entries (a new, larger
+ * list; the old entries are not kept: the sort fills it afterwards). */
+fw_status_t poly_reserve_list(gp_t *gp, poly_state_t *s, uint32_t pairs);
+
 /* poly_vrz.c */
 fw_status_t poly_vrz_start(gp_t *gp, poly_state_t *s);
 fw_status_t poly_vrz_plan(gp_t *gp, poly_state_t *s);

@@ -78,13 +78,8 @@ fw_status_t poly_vrz_sort(gp_t *gp, poly_state_t *s)
     for (uint32_t i = 0; i < s->n_tri; i++)
         sort_levels(s, i, false);
     uint32_t pairs = poly_bin_prefix(s->count, s->start, s->fill, s->n_regions, &s->sp, NULL);
-    if (pairs > s->list_cap) {
-        fw_free(gp, s->list);
-        s->list_cap = pairs + pairs / 4 + 16;
-        s->list = fw_alloc(gp, (size_t)s->list_cap * sizeof *s->list);
-        if (!s->list)
-            return FW_ERROR;
-    }
+    if (poly_reserve_list(gp, s, pairs) != FW_OK)
+        return FW_ERROR;
     for (uint32_t i = 0; i < s->n_tri; i++)
         sort_levels(s, i, true);
     fw_stat_add(gp, s->stat[POLY_STAT_PAIRS_BINNED], pairs);
