@@ -99,6 +99,13 @@ static void vrz_kernels(const poly_config_t *c, const poly_tri_t *tri, size_t nt
     s->cfg = *c;
     s->levels = c->levels2d;
     poly_levels_setup(s);
+    vr_level_tables_t *lt = &s->tables;      /* as vr_level_tables_build, in host memory */
+    lt->w = c->width, lt->h = c->height;
+    lt->n = vr_level_tables_entries(&s->gaze_model, lt->w, lt->h);
+    lt->dist = calloc((size_t)lt->w * (size_t)lt->h, sizeof *lt->dist);
+    lt->level = calloc((size_t)lt->n, sizeof *lt->level);
+    REQUIRE(lt->dist && lt->level);
+    vr_level_tables_fill(&s->gaze_model, lt, NULL, NULL);
     size_t n = (size_t)s->n_tiles;
     s->slot_of = calloc(n, sizeof *s->slot_of), s->reg = calloc(n, sizeof *s->reg);
     s->count = calloc(n, 4), s->start = calloc(n, 4), s->fill = calloc(n, 4);
@@ -161,6 +168,7 @@ static void vrz_kernels(const poly_config_t *c, const poly_tri_t *tri, size_t nt
     for (int l = 0; l < s->levels; l++)
         free(s->texel[l]);
     free(s->level), free(s->list), free(s->slot_of), free(s->reg);
+    free(lt->dist), free(lt->level);
     free(s->count), free(s->start), free(s->fill);
     free(s);
 }
@@ -218,7 +226,10 @@ TEST(fw_poly_cost_rows_match_their_kernels)
             for (uint32_t i = 0; i < fill[k]; i++)
                 poly_encode(&c, &tri[list[start[k] + i]], 0, (k % rx) * 128, (k / rx) * 128, &st, &sp, cnt);
         }
-        vrz_kernels(&c, tri, nt, &sp, cnt, &st);
+        for (int tables = 0; tables < 2; tables++) {   /* 2DLevel exactly, then by the tables */
+            c.level_tables = tables;
+            vrz_kernels(&c, tri, nt, &sp, cnt, &st);
+        }
         size_t w0 = st.n_words;
         poly_phong_stream(&st, c.light, c.ambient, c.diffuse, c.front_rgb, c.back_rgb, false);
         poly_words(st.n_words - w0, &sp, cnt);

@@ -105,7 +105,7 @@ static void plan_state(poly_state_t *s, const gaze_model_t *g, int w, int h, dou
     scene_open(&v, w, h);
     pp5_params_t p;
     pp5_params_default(&p);
-    p.n_gp = 1, p.n_renderers = 1;
+    p.n_gp = 8, p.n_renderers = 1;   /* bands small enough for a GP's memory */
     raster_style_t style;
     poly_options_t po;
     poly_style_from_render_opts(&v.opts, &v.soup, &style, &po);
@@ -140,11 +140,17 @@ TEST(fw_poly_vrz_plan_holds_every_texel_render_marks)
     const double gaze[3][2] = {{550.3, 350.7}, {0, 0}, {1099, 20.5}};
     float *row = malloc(sizeof *row * W);
     REQUIRE(row != NULL);
+    gaze_level_tables_t tables;
+    REQUIRE(gaze_level_tables_init(&tables, &g, W, H) == PP5_OK);
     for (int q = 0; q < 3; q++) {
         mip2d_t m;
         REQUIRE(mip2d_init(&m, W, H, g.max_level + 1) == PP5_OK);
+        /* the texels of both 2DLevels: exact and by the paper's tables */
         for (int y = 0; y < H; y++) {
             gaze_level_row_reference(&g, y, W, gaze[q][0], gaze[q][1], 1.0, row);
+            for (int x = 0; x < W; x++)
+                mip2d_mark_pixel(&m, x, y, row[x]);
+            gaze_level_row_tabled(&tables, y, W, gaze[q][0], gaze[q][1], 1.0, row);
             for (int x = 0; x < W; x++)
                 mip2d_mark_pixel(&m, x, y, row[x]);
         }
@@ -171,6 +177,7 @@ TEST(fw_poly_vrz_plan_holds_every_texel_render_marks)
         mip2d_free(&m);
     }
     free(row);
+    gaze_level_tables_free(&tables);
 }
 
 TEST(fw_poly_vrz_matches_render_mesh_vrz)

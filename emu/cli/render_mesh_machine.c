@@ -37,6 +37,7 @@ static pp5_status_t machine_frame(const render_cmd_t *c, const render_mesh_frame
     poly_options_t po;
     poly_style_from_render_opts(f->opts, list, &style, &po);
     po.gaze = vrz;
+    po.level_tables = c->fw.level_tables;   /* --set level_tables=0: 2DLevel exactly */
     po.gaze_model = *f->gaze;
     po.gaze_x = f->gaze_x, po.gaze_y = f->gaze_y;
     st = poly_session_init(s, &p, tris, (size_t)list->n_tris, f->width, f->height, f->cam, &style,

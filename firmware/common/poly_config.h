@@ -86,6 +86,7 @@ typedef struct {
      * host, as vr_config_t's g_* (the same 2DLevel, vr_gaze_level). */
     int32_t gaze;                   /* 0: full resolution; 1: the populated levels only */
     int32_t levels2d;               /* 2D levels, 1..POLY_MAX_LEVELS */
+    int32_t level_tables;           /* 2DLevel by the paper's two tables (vr_kernels.h), else exact */
     double gaze_x, gaze_y;          /* the gaze point, image pixels (set per frame) */
     double g_inches_per_px, g_view_distance_in, g_e_full_deg, g_e_edge_deg, g_sigma_deg,
         g_rho_min, g_r_zero_px, g_r_max_px;

@@ -77,7 +77,7 @@
     /* ---- gaze-directed frames: the variable-resolution Z-buffer ---- */ \
     X(VRZ_LEVEL_FAR, (.fadd = 2, .branches = 2), "2DLevel: the periphery test (gaze_level's own value past it)") \
     X(VRZ_TILE, (.int_ops = 24, .loads = 4, .branches = 12), "plan: a level tile's texels and the pixels that read them") \
-    X(VRZ_TILE_LEVELS, (.int_ops = 6, .fadd = 24, .fmul = 4, .fsqrt = 2, .loads = 2, .branches = 6), "plan: a tile's nearest and farthest 2DLevel, the populated test") \
+    X(VRZ_TILE_LEVELS, (.int_ops = 6, .fadd = 27, .fmul = 4, .fsqrt = 2, .loads = 3, .branches = 6), "plan: a tile's nearest and farthest 2DLevel, the populated test") \
     X(VRZ_SLOT, (.stores = 4, .int_ops = 3, .branches = 1), "plan: a tile's region slot (or none)") \
     X(VRZ_TRI, (.loads = 6, .int_ops = 8, .branches = 8), "sort: a triangle's snapped box") \
     X(VRZ_LEVEL_BOX, (.int_ops = 28, .loads = 2, .branches = 6), "sort: a triangle's tiles on one level") \
@@ -86,6 +86,7 @@
     X(ENC_LEVEL_PLANE, (.loads = 2, .fmul = 2, .stores = 2), "a triangle on a coarse level: a plane's gradients") \
     X(ENC_LEVEL_EDGE, (.fmul = 2, .int_ops = 3, .branches = 1), "an edge on a coarse level: floor(F / 2^l)") \
     X(VRZ_BAND_PIXEL, (.int_ops = 4, .fadd = 3, .fmul = 2, .fsqrt = 1, .stores = 1, .branches = 1), "resample: a pixel's distance from the gaze and its 2DLevel stored") \
+    X(VRZ_BAND_PIXEL_TABLED, (.int_ops = 3, .stores = 1, .branches = 1), "resample: a pixel's 2DLevel by the tables stored") \
     X(VRZ_EXPECT, (.loads = 3, .int_ops = 6, .branches = 3), "a region's texel rows this GP reads (counted once per region)") \
     X(VRZ_BOX, (.loads = 3, .int_ops = 14, .stores = 6, .branches = 3), "the last GP: a GP's texel box of a region requested") \
     X(VRZ_TEXEL_ROW, (.loads = 2, .int_ops = 6, .branches = 1), "resample: a received texel row's place") \

@@ -195,6 +195,27 @@ static inline void vr_level_tables_fill(const vr_config_t *c, vr_level_tables_t 
     t->level_far = vr_gaze_level(c, INFINITY, &trans, NULL, NULL);
 }
 
+/* Allocates and fills both tables for offsets within a w x h image (the
+ * fill charged to the GP now: once per sequence). */
+static inline fw_status_t vr_level_tables_build(gp_t *gp, const vr_config_t *c, int w, int h,
+                                                vr_level_tables_t *t)
+{
+    t->w = w;
+    t->h = h;
+    t->n = vr_level_tables_entries(c, t->w, t->h);
+    t->dist = fw_alloc(gp, (size_t)t->w * (size_t)t->h * sizeof *t->dist);
+    t->level = fw_alloc(gp, (size_t)t->n * sizeof *t->level);
+    if (!t->dist || !t->level)
+        return FW_ERROR;
+    vr_spans_t sp;
+    memset(&sp, 0, sizeof sp);
+    vr_level_tables_fill(c, t, &sp, NULL);
+    fw_ops_t ops = {0};
+    vr_spans_charge(&ops, &sp);
+    fw_charge(gp, &ops);
+    return FW_OK;
+}
+
 /* 2DLevel of a pixel from the tables.  Spans: LEVEL_TABLE per pixel,
  * LEVEL_TABLE_FAR for an offset outside the distance table. */
 static inline float vr_level_tabled(const vr_level_tables_t *t, int dx, int dy, double scale,

@@ -89,9 +89,11 @@ static fw_status_t poly_start(gp_t *gp)
     s->start = fw_alloc(gp, n * sizeof *s->start);
     s->fill = fw_alloc(gp, n * sizeof *s->fill);
     s->reg = fw_alloc(gp, n * sizeof *s->reg);
-    if (!s->count || !s->start || !s->fill || !s->reg)
+    if (!s->count || !s->start || !s->fill || !s->reg || set_config(gp, s, c) != FW_OK)
         return FW_ERROR;
-    return set_config(gp, s, c);
+    /* gaze-directed from the start: the band and the 2DLevel tables with
+     * the load (a later switch to gaze builds them in its first frame) */
+    return c->gaze ? poly_vrz_start(gp, s) : FW_OK;
 }
 
 static fw_status_t take_triangles(gp_t *gp, poly_state_t *s, const ring_msg_t *msg)

@@ -50,6 +50,7 @@ typedef struct {
     uint32_t *texel[POLY_MAX_LEVELS];
     uint32_t expected, arrived;      /* texel boxes this frame */
     vr_config_t gaze_model;          /* only its g_* constants: vr_gaze_level's input */
+    vr_level_tables_t tables;        /* level_tables: built with the band (poly_vrz_start) */
     vr_spans_t vsp;                  /* vr_kernels.h spans (2DLevel) */
 } poly_state_t;
 

@@ -24,6 +24,9 @@ fw_status_t poly_vrz_start(gp_t *gp, poly_state_t *s)
     if (!s->slot_of)
         return FW_ERROR;
     poly_band_rows(s, fw_gp_index(gp), mi->n_gp, &s->y0, &s->y1);
+    if (s->cfg.level_tables &&
+        vr_level_tables_build(gp, &s->gaze_model, s->cfg.width, s->cfg.height, &s->tables) != FW_OK)
+        return FW_ERROR;
     if (s->y1 > s->y0) {
         s->level = fw_alloc(gp, (size_t)(s->y1 - s->y0) * (size_t)s->cfg.width * sizeof *s->level);
         if (!s->level)

@@ -51,7 +51,9 @@ static inline void poly_texel_readers(int a, int b, int l, int n, int *lo, int *
  * the reading pixels' rectangle it lies between its values at the
  * rectangle's nearest and farthest points: the test is conservative (a
  * populated tile is never missed; tests/test_fw_poly_vrz.c checks it
- * against render/'s marks). */
+ * against render/'s marks).  With the tables a pixel's distance is taken
+ * from the gaze pixel (at most 0.71 pixel from the gaze) and rounded to
+ * 1/4 pixel, so both distances are widened by a pixel. */
 static inline bool poly_tile_populated(poly_state_t *s, int l, int tx, int ty, poly_count_t *cnt)
 {
     int a = tx * 128, b = a + 127 < s->tw[l] - 1 ? a + 127 : s->tw[l] - 1;
@@ -71,15 +73,18 @@ static inline bool poly_tile_populated(poly_state_t *s, int l, int tx, int ty, p
     double ny = fmax(fmax((double)ya - gy, gy - (double)yb), 0.0);
     double fx = fmax(fabs((double)xa - gx), fabs((double)xb - gx));
     double fy = fmax(fabs((double)ya - gy), fabs((double)yb - gy));
-    float near = poly_gaze_level(s, sqrt(nx * nx + ny * ny), cnt);
-    float farthest = poly_gaze_level(s, sqrt(fx * fx + fy * fy), cnt);
+    double widen = s->cfg.level_tables ? 1.0 : 0.0;
+    double rn = fmax(sqrt(nx * nx + ny * ny) - widen, 0.0), rf = sqrt(fx * fx + fy * fy) + widen;
+    float near = poly_gaze_level(s, rn, cnt);
+    float farthest = poly_gaze_level(s, rf, cnt);
     bool below = l == s->levels - 1 || near < (float)(l + 1);
     bool above = l == 0 || farthest > (float)(l - 1);
     /* 4 conversions; 8 subtracts, 6 max and 4 fabs (compares: adder);
-     * two distances (2 products, an add, a sqrt each); the two level tests
-     * (a conversion, an add and a compare each, the level tests) */
-    POLY_SPAN(&s->sp, cnt, VRZ_TILE_LEVELS, .int_ops = 4 + 2, .fadd = 8 + 6 + 4 + 2 + 2 + 2,
-              .fmul = 4, .fsqrt = 2, .loads = 2, .branches = 2 + 2 + 2);
+     * two distances (2 products, an add, a sqrt each), the widening (2 adds,
+     * a max); the two level tests (a conversion, an add and a compare each,
+     * the level tests) */
+    POLY_SPAN(&s->sp, cnt, VRZ_TILE_LEVELS, .int_ops = 4 + 2, .fadd = 8 + 6 + 4 + 2 + 3 + 2 + 2,
+              .fmul = 4, .fsqrt = 2, .loads = 3, .branches = 2 + 2 + 2);
     return below && above;
 }
 
@@ -261,12 +266,22 @@ static inline bool poly_expect_region(poly_state_t *s, int k, poly_count_t *cnt)
     return poly_region_rows(s, k, s->jlo[l], s->jhi[l], &a, &b);
 }
 
-/* 2DLevel of band pixel (x, y) (render/mip2d_row.c's expression), stored. */
+/* 2DLevel of band pixel (x, y), stored: from the paper's tables (offsets
+ * from the gaze pixel, as the volume program's) or exactly (render/
+ * mip2d_row.c's expression). */
 static inline void poly_band_level(poly_state_t *s, int x, int y, poly_count_t *cnt)
 {
+    float *out = s->level + (size_t)(y - s->y0) * (size_t)s->cfg.width + (size_t)x;
+    if (s->cfg.level_tables) {
+        int gx = (int)floor(s->cfg.gaze_x + 0.5), gy = (int)floor(s->cfg.gaze_y + 0.5);
+        *out = vr_level_tabled(&s->tables, x - gx, y - gy, 1.0, &s->vsp, NULL);
+        /* the x loop; the gaze pixel (kept in registers per row); the
+         * address and the store */
+        POLY_SPAN(&s->sp, cnt, VRZ_BAND_PIXEL_TABLED, .int_ops = 2 + 1, .stores = 1, .branches = 1);
+        return;
+    }
     double dx = (double)x - s->cfg.gaze_x, dy = (double)y - s->cfg.gaze_y;
-    s->level[(size_t)(y - s->y0) * (size_t)s->cfg.width + (size_t)x] =
-        poly_gaze_level(s, sqrt(dx * dx + dy * dy), cnt);
+    *out = poly_gaze_level(s, sqrt(dx * dx + dy * dy), cnt);
     /* the x loop; dx, dy (conversion, subtract); the squares, their sum,
      * sqrt; the address and the store */
     POLY_SPAN(&s->sp, cnt, VRZ_BAND_PIXEL, .int_ops = 2 + 1 + 1, .fadd = 2 + 1, .fmul = 2,

@@ -564,22 +564,7 @@ static fw_status_t finish_octree(gp_t *gp, vr_state_t *s)
  * distance out to the periphery radius. */
 static fw_status_t build_level_tables(gp_t *gp, vr_state_t *s)
 {
-    const vr_config_t *c = &s->cfg;
-    vr_level_tables_t *t = &s->level_tables;
-    t->w = c->width;
-    t->h = c->height;
-    t->n = vr_level_tables_entries(c, t->w, t->h);
-    t->dist = fw_alloc(gp, (size_t)t->w * (size_t)t->h * sizeof *t->dist);
-    t->level = fw_alloc(gp, (size_t)t->n * sizeof *t->level);
-    if (!t->dist || !t->level)
-        return FW_ERROR;
-    vr_spans_t sp;
-    memset(&sp, 0, sizeof sp);
-    vr_level_tables_fill(c, t, &sp, NULL);
-    fw_ops_t ops = {0};
-    vr_spans_charge(&ops, &sp);
-    fw_charge(gp, &ops);
-    return FW_OK;
+    return vr_level_tables_build(gp, &s->cfg, s->cfg.width, s->cfg.height, &s->level_tables);
 }
 
 fw_status_t vr_setup_start(gp_t *gp)

@@ -11,6 +11,7 @@ void poly_options_default(poly_options_t *o)
 {
     memset(o, 0, sizeof *o);
     o->shading = POLY_GOURAUD;
+    o->level_tables = true;
     o->background[0] = 24, o->background[1] = 26, o->background[2] = 32;
 }
 
@@ -57,6 +58,7 @@ static void make_config(poly_session_t *s, int width, int height, const raster_c
     c->diffuse = (float)st->diffuse;
     const gaze_model_t *g = &s->opts.gaze_model;
     c->gaze = s->opts.gaze;
+    c->level_tables = s->opts.level_tables;
     c->levels2d = s->opts.gaze ? g->max_level + 1 : 1;
     if (c->levels2d > POLY_MAX_LEVELS)
         c->levels2d = POLY_MAX_LEVELS;

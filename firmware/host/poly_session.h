@@ -25,6 +25,7 @@ typedef struct {
      * §7, seed 004) with this acuity model's 2D levels, gazed at (gaze_x,
      * gaze_y) (image pixels) until poly_session_set_gaze. */
     bool gaze;
+    bool level_tables;          /* 2DLevel by the paper's tables (default), else exact */
     gaze_model_t gaze_model;
     double gaze_x, gaze_y;
 } poly_options_t;

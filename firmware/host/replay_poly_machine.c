@@ -58,6 +58,7 @@ typedef struct {
     raster_shading_t shading;
     bool lod;
     bool vrz;             /* the variable-resolution Z-buffer (firmware/gp/poly_vrz.c) */
+    bool level_tables;    /* its 2DLevel by the paper's tables (default), else exact */
     replay_machine_params_t mp;
 } poly_cost_opts_t;
 
@@ -109,7 +110,7 @@ static pp5_status_t parse_item(void *ctx, const char *item)
     const char *eq = strchr(item, '=');
     if (!eq || eq == item)
         return pp5_fail(PP5_E_CONFIG, SOURCE ": expected KEY=VALUE, got '%s' (keys: scene, mesh, "
-                        "size, shading, lod, vrz, preset, or a machine parameter)", item);
+                        "size, shading, lod, vrz, level_tables, preset, or a machine parameter)", item);
     size_t klen = (size_t)(eq - item);
     const char *value = eq + 1;
     char key[32];
@@ -129,6 +130,8 @@ static pp5_status_t parse_item(void *ctx, const char *item)
         return parse_on_off(key, value, &o->lod);
     if (strcmp(key, "vrz") == 0)
         return parse_on_off(key, value, &o->vrz);
+    if (strcmp(key, "level_tables") == 0)
+        return parse_on_off(key, value, &o->level_tables);
     if (strcmp(key, "preset") == 0) {
         snprintf(o->mp.preset, sizeof o->mp.preset, "%s", value);
         return PP5_OK;
@@ -145,6 +148,7 @@ static pp5_status_t parse_options(const char *text, poly_cost_opts_t *o)
     o->width = o->height = 256;
     o->shading = RASTER_GOURAUD;
     o->lod = true;
+    o->level_tables = true;
     replay_machine_params_init(&o->mp);
     pp5_status_t st = replay_options_each(SOURCE, text, parse_item, o);
     if (st == PP5_OK && !o->path[0])
@@ -244,6 +248,7 @@ static pp5_status_t send_list(poly_cost_t *c, const int *levels)
         poly_options_t po;
         poly_style_from_render_opts(&c->ropts, &c->full, &style, &po);
         po.gaze = c->o.vrz;
+        po.level_tables = c->o.level_tables;
         po.gaze_model = c->g;
         po.gaze_x = 0.5 * (c->o.width - 1), po.gaze_y = 0.5 * (c->o.height - 1);
         st = poly_session_init(&c->session, &c->params, tris, (size_t)list->n_tris, c->o.width,
@@ -375,7 +380,7 @@ static const replay_cost_source_t poly_cost_source = {
     .summary = "the emulated Pixel-Planes 5 drawing a polygon scene, levels of detail chosen "
                "by the gaze; a changed triangle list's transfer is inside its frame's time "
                "(options: scene=FILE|mesh=FILE,size=WxH,shading=flat|gouraud|phong,lod=on|off,"
-               "vrz=on|off (default off),preset=NAME, PARAM=VALUE or set=PARAM=VALUE as pp5 machine --set)",
+               "vrz=on|off (default off),level_tables=on|off,preset=NAME, PARAM=VALUE or set=PARAM=VALUE as pp5 machine --set)",
     .open = poly_cost_open,
     .cost = poly_cost_frame,
     .close = poly_cost_close,
