@@ -1,24 +1,36 @@
 /* simplify_queue.c: the simplifiers' candidate queue, a 4-ary min-heap on
  * (cost, tie) that holds each id at most once and knows where it is, so a
  * re-costed candidate moves in place (no stale copies to pop and skip).
- * Four children per node halve the depth a re-costed (usually dearer)
- * candidate sinks through; their keys share a cache line or two. */
+ *
+ * Why this shape: the simplifiers spend much of their time moving
+ * re-costed candidates, and each level of a move reads one node's children.
+ * Four children per node halve the depth a (usually dearer) candidate sinks
+ * through; with 16-byte slots and e[1] on a 64-byte boundary, the children
+ * 4i+1 .. 4i+4 of every node share one cache line.  Ties (equal costs) are
+ * rare, so their keys live in a side array read only then. */
 #include "simplify_work.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+enum { LINE = 64, SLOTS_PER_LINE = LINE / sizeof(sw_qslot_t) };
+
 pp5_status_t sw_queue_init(sw_queue_t *q, int n_ids)
 {
     memset(q, 0, sizeof *q);
     size_t n = (size_t)(n_ids > 0 ? n_ids : 0) + 1;
-    q->e = malloc(sizeof *q->e * n);
+    /* room for the slots plus one line, rounded to whole lines (aligned_alloc) */
+    size_t bytes = ((n + 2 * SLOTS_PER_LINE) * sizeof(sw_qslot_t) + LINE - 1) / LINE * LINE;
+    q->block = aligned_alloc(LINE, bytes);
+    q->tie = malloc(sizeof *q->tie * n);
     q->where = malloc(sizeof *q->where * n);
-    if (!q->e || !q->where) {
+    if (!q->block || !q->tie || !q->where) {
         sw_queue_free(q);
         return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for the queue");
     }
+    /* e[1] starts a line, so each group of four children does too */
+    q->e = (sw_qslot_t *)q->block + SLOTS_PER_LINE - 1;
     for (size_t i = 0; i < n; i++)
         q->where[i] = -1;
     q->n_ids = n_ids > 0 ? n_ids : 0;
@@ -27,21 +39,22 @@ pp5_status_t sw_queue_init(sw_queue_t *q, int n_ids)
 
 void sw_queue_free(sw_queue_t *q)
 {
-    free(q->e);
+    free(q->block);
+    free(q->tie);
     free(q->where);
     memset(q, 0, sizeof *q);
 }
 
-static inline bool entry_less(const sw_qentry_t *x, const sw_qentry_t *y)
+static inline bool slot_less(const sw_queue_t *q, sw_qslot_t x, sw_qslot_t y)
 {
-    return x->cost < y->cost || (x->cost == y->cost && x->tie < y->tie);
+    return x.cost < y.cost || (x.cost == y.cost && q->tie[x.id] < q->tie[y.id]);
 }
 
-static void sift_up(sw_queue_t *q, int i, sw_qentry_t e)
+static void sift_up(sw_queue_t *q, int i, sw_qslot_t e)
 {
     while (i > 0) {
         int up = (i - 1) / 4;
-        if (!entry_less(&e, &q->e[up]))
+        if (!slot_less(q, e, q->e[up]))
             break;
         q->e[i] = q->e[up];
         q->where[q->e[i].id] = i;
@@ -51,16 +64,16 @@ static void sift_up(sw_queue_t *q, int i, sw_qentry_t e)
     q->where[e.id] = i;
 }
 
-static void sift_down(sw_queue_t *q, int i, sw_qentry_t e)
+static void sift_down(sw_queue_t *q, int i, sw_qslot_t e)
 {
     for (;;) {
         int c = 4 * i + 1, end = c + 4 < q->n ? c + 4 : q->n;
         if (c >= q->n)
             break;
         for (int j = c + 1; j < end; j++)
-            if (entry_less(&q->e[j], &q->e[c]))
+            if (slot_less(q, q->e[j], q->e[c]))
                 c = j;
-        if (!entry_less(&q->e[c], &e))
+        if (!slot_less(q, q->e[c], e))
             break;
         q->e[i] = q->e[c];
         q->where[q->e[i].id] = i;
@@ -70,11 +83,17 @@ static void sift_down(sw_queue_t *q, int i, sw_qentry_t e)
     q->where[e.id] = i;
 }
 
+/* NaN sorts last */
+static inline sw_qslot_t make_slot(sw_queue_t *q, int id, double cost, uint64_t tie)
+{
+    q->tie[id] = tie;
+    return (sw_qslot_t){cost == cost ? cost : INFINITY, id, 0};
+}
+
 void sw_queue_append(sw_queue_t *q, int id, double cost, uint64_t tie)
 {
-    sw_qentry_t e = {cost == cost ? cost : INFINITY, tie, id};
     q->where[id] = q->n;
-    q->e[q->n++] = e;
+    q->e[q->n++] = make_slot(q, id, cost, tie);
 }
 
 void sw_queue_heapify(sw_queue_t *q)
@@ -85,13 +104,16 @@ void sw_queue_heapify(sw_queue_t *q)
 
 void sw_queue_set(sw_queue_t *q, int id, double cost, uint64_t tie)
 {
-    sw_qentry_t e = {cost == cost ? cost : INFINITY, tie, id}; /* NaN sorts last */
     int i = q->where[id];
     if (i < 0) {
-        sift_up(q, q->n++, e);
+        sift_up(q, q->n++, make_slot(q, id, cost, tie));
         return;
     }
-    if (entry_less(&e, &q->e[i]))
+    /* the old key is compared before the tie is overwritten */
+    sw_qslot_t e = {cost == cost ? cost : INFINITY, id, 0};
+    bool up = e.cost < q->e[i].cost || (e.cost == q->e[i].cost && tie < q->tie[id]);
+    q->tie[id] = tie;
+    if (up)
         sift_up(q, i, e);
     else
         sift_down(q, i, e);
@@ -103,10 +125,10 @@ void sw_queue_remove(sw_queue_t *q, int id)
     if (i < 0)
         return;
     q->where[id] = -1;
-    sw_qentry_t last = q->e[--q->n];
+    sw_qslot_t last = q->e[--q->n];
     if (i == q->n)
         return;
-    if (entry_less(&last, &q->e[i]))
+    if (slot_less(q, last, q->e[i]))
         sift_up(q, i, last);
     else
         sift_down(q, i, last);
@@ -116,7 +138,7 @@ bool sw_queue_pop(sw_queue_t *q, sw_qentry_t *out)
 {
     if (q->n == 0)
         return false;
-    *out = q->e[0];
+    *out = (sw_qentry_t){q->e[0].cost, q->tie[q->e[0].id], q->e[0].id};
     sw_queue_remove(q, out->id);
     return true;
 }

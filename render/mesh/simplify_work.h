@@ -41,8 +41,18 @@ typedef struct {
     int32_t id;
 } sw_qentry_t;
 
+/* A heap slot: 16 bytes, so a node's four children fill one cache line
+ * (simplify_queue.c aligns them); the tie, needed only when costs are
+ * equal, stays beside the id in tie[]. */
 typedef struct {
-    sw_qentry_t *e;
+    double cost;
+    int32_t id, unused;
+} sw_qslot_t;
+
+typedef struct {
+    sw_qslot_t *e;         /* the heap: e[0] is the least */
+    void *block;           /* the allocation e points into */
+    uint64_t *tie;         /* id -> its tie key */
     int32_t *where;        /* id -> index in e, or -1 */
     int n, n_ids;
 } sw_queue_t;
