@@ -56,32 +56,32 @@ static void sw_push_level(sw_t *w)
     w->r_levels++;
 }
 
-/* Puts the corners at v in counter-clockwise order: the successor of corner
- * c is the corner whose edge leaves v toward tri[prev c].  A path starts at
- * the corner with no predecessor (its edge is on the boundary); a cycle
- * starts at its lowest corner, so the order depends only on the mesh, not
- * on the merges that made it.  Anything else (several pieces: a pinched
- * vertex) is BROKEN and left in ascending corner order.  Returns false if
- * two corners leave v toward the same vertex (an edge with three faces or
- * two faces of opposite orientation). */
-static bool order_fan(sw_t *w, int v)
+/* Successors for a short fan by direct search (a valence-6 vertex needs 36
+ * comparisons, cheaper than sorting); false if two next vertices are equal. */
+#define FAN_SCAN 16
+static bool fan_successors_scan(const sw_t *w, const int32_t *fan, int n, const int32_t *nxt,
+                                int32_t *succ)
 {
-    int32_t *fan = w->pool + w->fan_off[v];
-    int n = w->fan_n[v];
-    if (n > SW_MAX_FAN) {   /* too many faces to merge anyway: not worth ordering */
-        w->fan_kind[v] = SW_FAN_BROKEN;
-        return true;
+    bool unique = true;
+    for (int j = 0; j < n; j++) {
+        int z = w->prevv[fan[j]];
+        succ[j] = -1;
+        for (int i = n - 1; i >= 0; i--)
+            if (nxt[i] == z)
+                succ[j] = i;
+        for (int i = j + 1; i < n; i++)
+            unique &= nxt[i] != nxt[j];
     }
-    /* corners sorted by their next vertex; the successor of corner j is the
-     * one whose next vertex is j's previous vertex (a binary search) */
-    int32_t nxt[SW_MAX_FAN], by_next[SW_MAX_FAN], succ[SW_MAX_FAN], ordered[SW_MAX_FAN];
-    bool has_pred[SW_MAX_FAN];
-    int lowest = 0;
+    return unique;
+}
+
+/* The same for a long fan: corners sorted by their next vertex (stably, so
+ * the lowest of equal ones comes first), then a binary search per corner. */
+static bool fan_successors_sorted(const sw_t *w, const int32_t *fan, int n, const int32_t *nxt,
+                                  int32_t *succ)
+{
+    int32_t by_next[SW_MAX_FAN];
     for (int i = 0; i < n; i++) {
-        nxt[i] = w->nextv[fan[i]];
-        has_pred[i] = false;
-        if (fan[i] < fan[lowest])
-            lowest = i;
         int j = i;
         for (; j > 0 && nxt[by_next[j - 1]] > nxt[i]; j--)
             by_next[j] = by_next[j - 1];
@@ -100,9 +100,42 @@ static bool order_fan(sw_t *w, int v)
                 hi = mid;
         }
         succ[j] = lo < n && nxt[by_next[lo]] == z ? by_next[lo] : -1;
+    }
+    return unique;
+}
+
+/* Puts the corners at v in counter-clockwise order: the successor of corner
+ * c is the corner whose edge leaves v toward tri[prev c].  A path starts at
+ * the corner with no predecessor (its edge is on the boundary); a cycle
+ * starts at its lowest corner, so the order depends only on the mesh, not
+ * on the merges that made it.  Anything else (several pieces: a pinched
+ * vertex) is BROKEN and left in ascending corner order.  Returns false if
+ * two corners leave v toward the same vertex (an edge with three faces or
+ * two faces of opposite orientation). */
+static bool order_fan(sw_t *w, int v)
+{
+    int32_t *fan = w->pool + w->fan_off[v];
+    int n = w->fan_n[v];
+    if (n > SW_MAX_FAN) {   /* too many faces to merge anyway: not worth ordering */
+        w->fan_kind[v] = SW_FAN_BROKEN;
+        return true;
+    }
+    /* the successor of corner j is the (lowest) corner whose next vertex is
+     * j's previous vertex */
+    int32_t nxt[SW_MAX_FAN], succ[SW_MAX_FAN], ordered[SW_MAX_FAN];
+    bool has_pred[SW_MAX_FAN];
+    int lowest = 0;
+    for (int i = 0; i < n; i++) {
+        nxt[i] = w->nextv[fan[i]];
+        has_pred[i] = false;
+        if (fan[i] < fan[lowest])
+            lowest = i;
+    }
+    bool unique = n <= FAN_SCAN ? fan_successors_scan(w, fan, n, nxt, succ)
+                                : fan_successors_sorted(w, fan, n, nxt, succ);
+    for (int j = 0; j < n; j++)
         if (succ[j] >= 0)
             has_pred[succ[j]] = true;
-    }
     int start = -1, starts = 0;
     for (int i = 0; i < n; i++)
         if (!has_pred[i] && starts++ == 0)
