@@ -166,6 +166,12 @@ static void qem_requeue_at(qem_t *s, int v)
         }
         return;
     }
+    /* the neighbours' quadrics are scattered through memory: ask for them
+     * all before the first is needed */
+    for (int i = 0; i < n; i++) {
+        const quadric_t *qx = &s->Q[w->nextv[fan[i]]];
+        __builtin_prefetch(qx->q), __builtin_prefetch(qx->q + 8);
+    }
     for (int i = 0; i < n; i++) {
         int out = fan[i], x = w->nextv[out];
         int in = i > 0 ? sw_prev(fan[i - 1]) : cycle ? sw_prev(fan[n - 1]) : -1;

@@ -65,10 +65,10 @@ static bool fan_successors_scan(const sw_t *w, const int32_t *fan, int n, const 
     bool unique = true;
     for (int j = 0; j < n; j++) {
         int z = w->prevv[fan[j]];
-        succ[j] = -1;
-        for (int i = n - 1; i >= 0; i--)
-            if (nxt[i] == z)
-                succ[j] = i;
+        int found = -1;
+        for (int i = n - 1; i >= 0; i--)   /* a select, not a branch: matches are unpredictable */
+            found = nxt[i] == z ? i : found;
+        succ[j] = found;
         for (int i = j + 1; i < n; i++)
             unique &= nxt[i] != nxt[j];
     }
