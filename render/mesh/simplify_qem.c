@@ -27,7 +27,17 @@ static void quadric_add_plane(quadric_t *Q, const double n[3], double d, double 
         Q->q[i] += w * t[i];
 }
 
-static double quadric_eval(const quadric_t *Q, const double p[3])
+/* Written out: the compiler keeps a 10-step loop as a loop at -O2. */
+static inline void quadric_sum(const quadric_t *A, const quadric_t *B, quadric_t *S)
+{
+    const double *a = A->q, *b = B->q;
+    double *q = S->q;
+    q[0] = a[0] + b[0], q[1] = a[1] + b[1], q[2] = a[2] + b[2], q[3] = a[3] + b[3];
+    q[4] = a[4] + b[4], q[5] = a[5] + b[5], q[6] = a[6] + b[6], q[7] = a[7] + b[7];
+    q[8] = a[8] + b[8], q[9] = a[9] + b[9];
+}
+
+static inline double quadric_eval(const quadric_t *Q, const double p[3])
 {
     const double *q = Q->q;
     double x = p[0], y = p[1], z = p[2];
@@ -63,14 +73,20 @@ typedef struct {
     quadric_t *Q;
 } qem_t;
 
+/* A rounded quadric error may dip below zero; it is a squared distance.
+ * (fmax is a library call at -O2, and NaN becomes 0 here as there.) */
+static inline double not_below_zero(double e)
+{
+    return e > 0 ? e : 0.0;
+}
+
 static double qem_place(const qem_t *s, int a, int b, double p[3])
 {
     quadric_t Q;
-    for (int i = 0; i < 10; i++)
-        Q.q[i] = s->Q[a].q[i] + s->Q[b].q[i];
+    quadric_sum(&s->Q[a], &s->Q[b], &Q);
     const double *pa = s->w->pos + 3 * a, *pb = s->w->pos + 3 * b;
     if (quadric_optimum(&Q, p))
-        return fmax(quadric_eval(&Q, p), 0.0);
+        return not_below_zero(quadric_eval(&Q, p));
     {   /* the best point of the edge: Q(pa + t d) is a parabola in t */
         const double *q = Q.q;
         double d[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
@@ -87,7 +103,7 @@ static double qem_place(const qem_t *s, int a, int b, double p[3])
             t = t < 0 ? 0 : t > 1 ? 1 : t;
             for (int k = 0; k < 3; k++)
                 p[k] = pa[k] + t * d[k];
-            return fmax(quadric_eval(&Q, p), 0.0);
+            return not_below_zero(quadric_eval(&Q, p));
         }
     }
     double cand[3][3] = {{pa[0], pa[1], pa[2]}, {pb[0], pb[1], pb[2]},
@@ -100,7 +116,7 @@ static double qem_place(const qem_t *s, int a, int b, double p[3])
             memcpy(p, cand[i], 3 * sizeof *p);
         }
     }
-    return fmax(best, 0.0);
+    return not_below_zero(best);
 }
 
 static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weighted)
@@ -213,8 +229,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
         if (!sw_merge_allowed(w, S, 2, p, &m))
             continue;
         st = sw_apply_merge(w, S, 2, p, &m);
-        for (int i = 0; i < 10; i++)
-            s.Q[a].q[i] += s.Q[b].q[i];
+        quadric_sum(&s.Q[a], &s.Q[b], &s.Q[a]);
         if (st == PP5_OK)
             qem_requeue_at(&s, a);
     }
