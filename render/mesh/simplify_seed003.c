@@ -44,10 +44,17 @@ typedef struct {
      * re-costed edge reads S and L instead of measuring them */
     double *elen, *eround;
     double *newp;                 /* per queued edge with its cost: the point it was costed at */
+    bool bulk;                    /* filling an empty queue: append now, heapify after */
     int32_t *dlist;
     int dn, dcap;
     double ring_table[S003_RING_TABLE_SIZE];
 } s003_t;
+
+/* fmax without the libm call: the larger, or the number if one is NaN. */
+static inline double max_num(double a, double b)
+{
+    return a != a ? b : b > a ? b : a;
+}
 
 static double cos_between(const double a[3], const double b[3])
 {
@@ -94,14 +101,25 @@ static double boundary_turn(const sw_t *w, int v)
     return angle_between(u, t);
 }
 
-/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
- * the two; A2 = the wider of the two groups' cones.  Faces are taken in
- * index order (the first widest pair wins a tie). */
-static void classify_vertex(s003_t *s, int v)
+/* The face normals around a vertex and, for a fan of at most
+ * NORMALS_CACHED faces, the cosines between every two (cos_between's
+ * doubles, which do not depend on the order of the pair). */
+#define NORMALS_CACHED 24
+typedef struct {
+    int n;
+    const double *nr[SW_MAX_FAN];
+    double cosines[NORMALS_CACHED][NORMALS_CACHED];
+} vertex_normals_t;
+
+static double normals_cos(const vertex_normals_t *vn, int i, int j)
 {
-    const sw_t *w = s->w;
+    return vn->n <= NORMALS_CACHED ? vn->cosines[i][j] : cos_between(vn->nr[i], vn->nr[j]);
+}
+
+/* Faces in index order; their normals are sw_init's (no merge yet). */
+static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
+{
     int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
-    double nr[SW_MAX_FAN][3];
     int32_t faces[SW_MAX_FAN];
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < n; i++) {
@@ -110,8 +128,25 @@ static void classify_vertex(s003_t *s, int v)
             faces[j] = faces[j - 1];
         faces[j] = fan[i] / 3;
     }
+    vn->n = n;
     for (int i = 0; i < n; i++)
-        sw_face_normal(w, faces[i], nr[i]);
+        vn->nr[i] = w->fnormal + 3 * faces[i];
+    if (n > NORMALS_CACHED)
+        return;
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++)
+            vn->cosines[i][j] = vn->cosines[j][i] = cos_between(vn->nr[i], vn->nr[j]);
+}
+
+/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
+ * the two; A2 = the wider of the two groups' cones.  Faces are taken in
+ * index order (the first widest pair wins a tie). */
+static void classify_vertex(s003_t *s, int v)
+{
+    const sw_t *w = s->w;
+    vertex_normals_t vn;
+    gather_normals(w, v, &vn);
+    int n = vn.n;
     /* acos falls monotonically (glibc's is correctly rounded), so angles
      * compare through their cosines; acos is taken only where a cosine could
      * tie (the same angles, and the same first widest pair, as comparing
@@ -120,7 +155,7 @@ static void classify_vertex(s003_t *s, int v)
     int bi = 0, bj = 0;
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++) {
-            double c = cos_between(nr[i], nr[j]);
+            double c = normals_cos(&vn, i, j);
             if (c > c1)
                 continue;   /* acos(c) <= a1: not wider */
             double t = acos(c);
@@ -129,7 +164,7 @@ static void classify_vertex(s003_t *s, int v)
         }
     int group[SW_MAX_FAN];
     for (int i = 0; i < n; i++) {
-        double cj = cos_between(nr[i], nr[bj]), ci = cos_between(nr[i], nr[bi]);
+        double cj = normals_cos(&vn, i, bj), ci = normals_cos(&vn, i, bi);
         /* |d acos / dc| >= 1: cosines this far apart order their angles */
         group[i] = cj - ci > 1e-12 ? 1 : ci - cj > 1e-12 ? 0 : acos(cj) < acos(ci);
     }
@@ -137,7 +172,7 @@ static void classify_vertex(s003_t *s, int v)
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++)
             if (group[i] == group[j])
-                c2 = sw_min(c2, cos_between(nr[i], nr[j]));
+                c2 = sw_min(c2, normals_cos(&vn, i, j));
     double a2 = acos(c2);
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
     int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
@@ -177,7 +212,7 @@ static void measure_face(s003_t *s, int f)
     for (int c = 3 * f; c < 3 * f + 3; c++)
         s->elen[c] = dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
     for (int c = 3 * f; c < 3 * f + 3; c++) {
-        double lmax = fmax(s->elen[sw_prev(c)], s->elen[sw_next(c)]);
+        double lmax = max_num(s->elen[sw_prev(c)], s->elen[sw_next(c)]);
         s->eround[c] = lmax > 0 ? s->elen[c] / lmax : 0;
     }
 }
@@ -190,9 +225,9 @@ static void measure_face(s003_t *s, int f)
  * of deletions is the same as costing at once. */
 static double lower_bound(const s003_t *s, int id, int twin)
 {
-    double smax = fmax(0, s->eround[id]);
+    double smax = max_num(0, s->eround[id]);
     if (twin >= 0)
-        smax = fmax(smax, s->eround[twin]);
+        smax = max_num(smax, s->eround[twin]);
     int ph = s->phase;
     return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * s->elen[id] / s->mean_edge;
 }
@@ -246,7 +281,7 @@ static bool control_function(s003_t *s, int id, int a, int b, const double p[3],
             if (w->nextv[c] == y || w->prevv[c] == y) {
                 /* a face of the edge (seen from a): S from its roundness */
                 if (k == 0)
-                    smax = fmax(smax, s->eround[w->nextv[c] == y ? c : sw_prev(c)]);
+                    smax = max_num(smax, s->eround[w->nextv[c] == y ? c : sw_prev(c)]);
                 continue;
             }
             if (!face_turn(w, c, p, &cs))
@@ -310,9 +345,26 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
     return PP5_OK;
 }
 
+/* Puts id in the queue under (cost, tie).  The keys are distinct (one id
+ * per edge, ties on its vertices), so the pops do not depend on how the
+ * heap was built. */
+static void queue_put(s003_t *s, int id, double cost, uint64_t tie)
+{
+    if (s->bulk)
+        sw_queue_append(&s->w->queue, id, cost, tie);
+    else
+        sw_queue_set(&s->w->queue, id, cost, tie);
+}
+
+static void queue_drop(s003_t *s, int id)
+{
+    if (sw_queue_has(&s->w->queue, id))
+        sw_queue_remove(&s->w->queue, id);
+}
+
 static void s003_forget(s003_t *s, int id)
 {
-    sw_queue_remove(&s->w->queue, id);
+    queue_drop(s, id);
     s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
     s->dirty[id] = 0;
 }
@@ -321,18 +373,17 @@ static void s003_forget(s003_t *s, int id)
  * cost, or under the lower bound. */
 static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
 {
-    sw_t *w = s->w;
     if (!now && s->lazy) {
-        sw_queue_set(&w->queue, id, lower_bound(s, id, twin), sw_edge_tie(a, b));
+        queue_put(s, id, lower_bound(s, id, twin), sw_edge_tie(a, b));
         s->dirty[id] = 1;
         return;
     }
     double F;
     s->dirty[id] = 0;
     if (s003_evaluate(s, id, a, b, s->newp + 3 * (size_t)id, &F))
-        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+        queue_put(s, id, F, sw_edge_tie(a, b));
     else
-        sw_queue_remove(&w->queue, id);
+        queue_drop(s, id);
 }
 
 /* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
@@ -349,17 +400,19 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
         a = b, b = t;
     }
     if (s003_frozen(s, a, b)) {
-        sw_queue_remove(&w->queue, id);
+        queue_drop(s, id);
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
     s003_cost(s, id, twin, a, b, false);
     return PP5_OK;
 }
 
+/* Queues every edge (the queue is empty). */
 static pp5_status_t queue_all_edges(s003_t *s)
 {
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
+    s->bulk = true;
     for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
         if (!w->face_alive[c / 3])
             continue;
@@ -368,6 +421,8 @@ static pp5_status_t queue_all_edges(s003_t *s)
         else if (w->tri[c] < w->nextv[c])   /* canonical; its twin is not queued */
             st = s003_queue(s, c, sw_find_corner(w, w->nextv[c], w->tri[c]));
     }
+    s->bulk = false;
+    sw_queue_heapify(&w->queue);
     return st;
 }
 
@@ -430,24 +485,27 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
     return st;
 }
 
-/* Every queued edge is frozen: thaw them all (§2.3). */
+/* Every queued edge is frozen: thaw them all (§2.3) into the empty queue. */
 static void s003_thaw(s003_t *s)
 {
     sw_t *w = s->w;
     s->epoch++;
+    s->bulk = true;
     w->stats->unfreezes++;
     for (int i = 0; i < s->dn; i++) {
         int id = s->dlist[i];
         uint8_t state = s->dstate[id];
         s->dstate[id] = S003_LIVE;
         if (state == S003_DEFERRED) {
-            sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
+            queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
             s003_cost(s, id, sw_find_corner(w, b, a), a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
+    s->bulk = false;
+    sw_queue_heapify(&w->queue);
 }
 
 /* Phase 2 (§2.3): new weights, every edge re-costed and re-sorted. */
