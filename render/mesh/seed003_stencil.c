@@ -107,21 +107,35 @@ static int valence(const s003_context_t *c, int v)
     return c->w->fan_kind[v] == SW_FAN_CYCLE ? c->w->fan_n[v] : -1;
 }
 
-/* The butterfly (case 1): a = 1/2, b = 1/8, c = -1/16, d = w = 0. */
+/* The index in v's fan of the corner v -> x, or -1. */
+static int fan_index(const sw_t *w, int v, int x)
+{
+    const int32_t *fan = sw_fan(w, v);
+    for (int i = 0; i < w->fan_n[v]; i++)
+        if (w->nextv[fan[i]] == x)
+            return i;
+    return -1;
+}
+
+/* The butterfly (case 1): a = 1/2, b = 1/8, c = -1/16, d = w = 0.  a and b
+ * are interior of valence 6, so the wings are read off their ordered fans
+ * (corner i + 1 leaves v toward corner i's previous vertex): the faces
+ * sw_opposite would find, without searching the neighbours' fans. */
 static bool butterfly(const s003_context_t *c, int a, int b, s003_stencil_t *s)
 {
     const sw_t *w = c->w;
-    int o1 = sw_opposite(w, a, b), o2 = sw_opposite(w, b, a);
-    if (o1 < 0 || o2 < 0)
+    int i = fan_index(w, a, b), j = fan_index(w, b, a);
+    if (i < 0 || j < 0)
         return false;
-    int wings[4] = {sw_opposite(w, a, o1), sw_opposite(w, o1, b), sw_opposite(w, o2, a),
-                    sw_opposite(w, b, o2)};
-    for (int i = 0; i < 4; i++)
-        if (wings[i] < 0)
-            return false;
+    const int32_t *fa = sw_fan(w, a), *fb = sw_fan(w, b);
+    int o1 = w->prevv[fa[i]], o2 = w->prevv[fb[j]];
+    int wings[4] = {w->prevv[fa[(i + 1) % 6]],    /* across a -> o1 */
+                    w->nextv[fb[(j + 4) % 6]],    /* across o1 -> b */
+                    w->nextv[fa[(i + 4) % 6]],    /* across o2 -> a */
+                    w->prevv[fb[(j + 1) % 6]]};   /* across b -> o2 */
     add(s, a, 0.5), add(s, b, 0.5), add(s, o1, 0.125), add(s, o2, 0.125);
-    for (int i = 0; i < 4; i++)
-        add(s, wings[i], -1.0 / 16.0);
+    for (int k = 0; k < 4; k++)
+        add(s, wings[k], -1.0 / 16.0);
     return true;
 }
 

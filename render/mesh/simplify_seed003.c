@@ -39,10 +39,22 @@ typedef struct {
     bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
     double *dcost;
     uint64_t *dtie;
+    /* per corner c, kept for the faces alive: the length of its edge
+     * (tri[c] -> nextv[c]) and its face's roundness for that edge, so a
+     * re-costed edge reads S and L instead of measuring them */
+    double *elen, *eround;
+    double *newp;                 /* per queued edge with its cost: the point it was costed at */
+    bool bulk;                    /* filling an empty queue: append now, heapify after */
     int32_t *dlist;
     int dn, dcap;
     double ring_table[S003_RING_TABLE_SIZE];
 } s003_t;
+
+/* fmax without the libm call: the larger, or the number if one is NaN. */
+static inline double max_num(double a, double b)
+{
+    return a != a ? b : b > a ? b : a;
+}
 
 static double cos_between(const double a[3], const double b[3])
 {
@@ -89,14 +101,25 @@ static double boundary_turn(const sw_t *w, int v)
     return angle_between(u, t);
 }
 
-/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
- * the two; A2 = the wider of the two groups' cones.  Faces are taken in
- * index order (the first widest pair wins a tie). */
-static void classify_vertex(s003_t *s, int v)
+/* The face normals around a vertex and, for a fan of at most
+ * NORMALS_CACHED faces, the cosines between every two (cos_between's
+ * doubles, which do not depend on the order of the pair). */
+#define NORMALS_CACHED 24
+typedef struct {
+    int n;
+    const double *nr[SW_MAX_FAN];
+    double cosines[NORMALS_CACHED][NORMALS_CACHED];
+} vertex_normals_t;
+
+static double normals_cos(const vertex_normals_t *vn, int i, int j)
 {
-    const sw_t *w = s->w;
+    return vn->n <= NORMALS_CACHED ? vn->cosines[i][j] : cos_between(vn->nr[i], vn->nr[j]);
+}
+
+/* Faces in index order; their normals are sw_init's (no merge yet). */
+static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
+{
     int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
-    double nr[SW_MAX_FAN][3];
     int32_t faces[SW_MAX_FAN];
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < n; i++) {
@@ -105,8 +128,25 @@ static void classify_vertex(s003_t *s, int v)
             faces[j] = faces[j - 1];
         faces[j] = fan[i] / 3;
     }
+    vn->n = n;
     for (int i = 0; i < n; i++)
-        sw_face_normal(w, faces[i], nr[i]);
+        vn->nr[i] = w->fnormal + 3 * faces[i];
+    if (n > NORMALS_CACHED)
+        return;
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++)
+            vn->cosines[i][j] = vn->cosines[j][i] = cos_between(vn->nr[i], vn->nr[j]);
+}
+
+/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
+ * the two; A2 = the wider of the two groups' cones.  Faces are taken in
+ * index order (the first widest pair wins a tie). */
+static void classify_vertex(s003_t *s, int v)
+{
+    const sw_t *w = s->w;
+    vertex_normals_t vn;
+    gather_normals(w, v, &vn);
+    int n = vn.n;
     /* acos falls monotonically (glibc's is correctly rounded), so angles
      * compare through their cosines; acos is taken only where a cosine could
      * tie (the same angles, and the same first widest pair, as comparing
@@ -115,7 +155,7 @@ static void classify_vertex(s003_t *s, int v)
     int bi = 0, bj = 0;
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++) {
-            double c = cos_between(nr[i], nr[j]);
+            double c = normals_cos(&vn, i, j);
             if (c > c1)
                 continue;   /* acos(c) <= a1: not wider */
             double t = acos(c);
@@ -124,7 +164,7 @@ static void classify_vertex(s003_t *s, int v)
         }
     int group[SW_MAX_FAN];
     for (int i = 0; i < n; i++) {
-        double cj = cos_between(nr[i], nr[bj]), ci = cos_between(nr[i], nr[bi]);
+        double cj = normals_cos(&vn, i, bj), ci = normals_cos(&vn, i, bi);
         /* |d acos / dc| >= 1: cosines this far apart order their angles */
         group[i] = cj - ci > 1e-12 ? 1 : ci - cj > 1e-12 ? 0 : acos(cj) < acos(ci);
     }
@@ -132,7 +172,7 @@ static void classify_vertex(s003_t *s, int v)
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++)
             if (group[i] == group[j])
-                c2 = sw_min(c2, cos_between(nr[i], nr[j]));
+                c2 = sw_min(c2, normals_cos(&vn, i, j));
     double a2 = acos(c2);
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
     int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
@@ -163,65 +203,102 @@ static double dist(const double *a, const double *b)
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-/* The roundness of face (a, b, o): L_e / L_max (§2.3). */
-static double roundness(const double *pa, const double *pb, const double *po, double le)
-{
-    double lmax = fmax(dist(pa, po), dist(pb, po));
-    return lmax > 0 ? le / lmax : 0;
-}
-
-/* F without its D term, Cs S + Cl L: neither depends on the new point, D
- * is >= 0, and rounding is monotone, so this is <= the F that
- * control_function computes (its sum is (Cd D + Cs S) + Cl L, in that
- * order).  Queued under it, an edge is costed only when it reaches the top
- * of the queue, and the order of deletions is the same as costing at once. */
-static double lower_bound(const s003_t *s, int a, int b)
+/* The lengths and roundness L_e / L_max (§2.3) of face f's three edges:
+ * the same doubles as measuring them from the endpoints in either order
+ * (a difference squares to the same number both ways round). */
+static void measure_face(s003_t *s, int f)
 {
     const sw_t *w = s->w;
-    const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
-    double le = dist(pa, pb), smax = 0;
-    int c1 = sw_find_corner(w, a, b), c2 = sw_find_corner(w, b, a);
-    if (c1 >= 0)
-        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c1], le));
-    if (c2 >= 0)
-        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * w->prevv[c2], le));
+    for (int c = 3 * f; c < 3 * f + 3; c++)
+        s->elen[c] = dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
+    for (int c = 3 * f; c < 3 * f + 3; c++) {
+        double lmax = max_num(s->elen[sw_prev(c)], s->elen[sw_next(c)]);
+        s->eround[c] = lmax > 0 ? s->elen[c] / lmax : 0;
+    }
+}
+
+/* F without its D term, Cs S + Cl L, for the edge of corner id (twin: its
+ * other corner, or -1): neither depends on the new point, D is >= 0, and
+ * rounding is monotone, so this is <= the F that control_function computes
+ * (its sum is (Cd D + Cs S) + Cl L, in that order).  Queued under it, an
+ * edge is costed only when it reaches the top of the queue, and the order
+ * of deletions is the same as costing at once. */
+static double lower_bound(const s003_t *s, int id, int twin)
+{
+    double smax = max_num(0, s->eround[id]);
+    if (twin >= 0)
+        smax = max_num(smax, s->eround[twin]);
     int ph = s->phase;
-    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * le / s->mean_edge;
+    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * s->elen[id] / s->mean_edge;
 }
 
-/* F(e) at new point p, or false if the merge is not allowed there (m: the
- * merge test, reused by the deletion itself). */
-static bool control_function(s003_t *s, int a, int b, const double p[3], double *F,
-                             sw_merge_t *m)
+/* The cosine of the turn of the face of corner c when c's vertex moves to
+ * p, or false where the face folds: the merge test's fold rule on the
+ * same doubles (sw_test_merge). */
+static bool face_turn(const sw_t *w, int c, const double p[3], double *cos_turn)
 {
-    const sw_t *w = s->w;
-    int32_t S[2] = {a, b};
-    if (sw_test_merge(w, S, 2, p, m) != SW_OK)
+    int f = c / 3, at = c - 3 * f;
+    const int32_t *tv = w->tri + 3 * f;
+    const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
+    const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
+    const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
+    const double *n_old = w->fnormal + 3 * f;
+    double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
+    double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]}, n_new[3];
+    sw_cross(u, t, n_new);
+    double lo = sw_dot(n_old, n_old), ln = sw_dot(n_new, n_new);
+    if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
         return false;
-    /* D: the largest turn, from the smallest cosine (acos falls monotonically);
-     * the test's dot products give cos_between(n_old, n_new) */
-    double cmin = 1.0, smax = 0;
-    for (int i = 0; i < m->n_keep; i++) {
-        double l = sqrt(m->turn_len2[i]), c = l > 0 ? m->turn_dot[i] / l : 1.0;
-        cmin = sw_min(cmin, c > 1 ? 1 : c < -1 ? -1 : c);
-    }
-    double dmax = acos(cmin) / PI;
-    const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
-    double le = dist(pa, pb);
-    for (int i = 0; i < m->n_removed; i++) {
-        const int32_t *t = w->tri + 3 * m->removed[i];
-        int o = t[0] != a && t[0] != b ? t[0] : t[1] != a && t[1] != b ? t[1] : t[2];
-        smax = fmax(smax, roundness(pa, pb, w->pos + 3 * o, le));
-    }
-    int ph = s->phase;
-    *F = s->o->s003_cd[ph] * dmax + s->o->s003_cs[ph] * smax +
-         s->o->s003_cl[ph] * le / s->mean_edge;
+    double d = sw_dot(n_old, n_new);
+    if (lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)))
+        return false;
+    double l = sqrt(lo * ln), cs = l > 0 ? d / l : 1.0;
+    *cos_turn = cs > 1 ? 1 : cs < -1 ? -1 : cs;
     return true;
 }
 
-/* The new point for deleting (a, b) (a < b) under the chosen rule, its cost
- * and its merge test. */
-static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F, sw_merge_t *m)
+/* F(e) at new point p for edge a-b of corner id, or false if a face would
+ * fold.  The link (topology) test waits for the deletion: it does not
+ * depend on p, an edge that fails it is dropped when it is popped, and it
+ * changes nothing else, so deletions come in the same order.  The faces
+ * that stay are those at a or b without the other: the merge test's. */
+static bool control_function(s003_t *s, int id, int a, int b, const double p[3], double *F)
+{
+    const sw_t *w = s->w;
+    if (w->fan_n[a] + w->fan_n[b] > SW_MAX_FAN) {   /* too many for the merge test */
+        sw_merge_t m;
+        int32_t S[2] = {a, b};
+        if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
+            return false;
+    }
+    /* D: the largest turn, from the smallest cosine (acos falls monotonically) */
+    double cmin = 1.0, smax = 0, cs;
+    for (int k = 0; k < 2; k++) {
+        int x = k ? b : a, y = k ? a : b;
+        const int32_t *fan = sw_fan(w, x);
+        for (int i = 0; i < w->fan_n[x]; i++) {
+            int c = fan[i];
+            if (w->nextv[c] == y || w->prevv[c] == y) {
+                /* a face of the edge (seen from a): S from its roundness */
+                if (k == 0)
+                    smax = max_num(smax, s->eround[w->nextv[c] == y ? c : sw_prev(c)]);
+                continue;
+            }
+            if (!face_turn(w, c, p, &cs))
+                return false;
+            cmin = sw_min(cmin, cs);
+        }
+    }
+    double dmax = acos(cmin) / PI;
+    int ph = s->phase;
+    *F = s->o->s003_cd[ph] * dmax + s->o->s003_cs[ph] * smax +
+         s->o->s003_cl[ph] * s->elen[id] / s->mean_edge;
+    return true;
+}
+
+/* The new point for deleting (a, b) (a < b, id: a corner of it) under the
+ * chosen rule and its cost. */
+static bool s003_evaluate(s003_t *s, int id, int a, int b, double p[3], double *F)
 {
     s003_stencil_t st;
     if (!s003_stencil(&s->ctx, a, b, &st))
@@ -229,23 +306,21 @@ static bool s003_evaluate(s003_t *s, int a, int b, double p[3], double *F, sw_me
     seed003_point_t mode = s->o->s003_point;
     if (st.which == S003_CASE_PINNED || mode == SEED003_POINT_STENCIL) {
         stencil_point(s, &st, p);
-        return control_function(s, a, b, p, F, m);
+        return control_function(s, id, a, b, p, F);
     }
     const double *pa = s->w->pos + 3 * a, *pb = s->w->pos + 3 * b;
     if (mode == SEED003_POINT_MIDPOINT) {
         for (int k = 0; k < 3; k++)
             p[k] = 0.5 * (pa[k] + pb[k]);
-        return control_function(s, a, b, p, F, m);
+        return control_function(s, id, a, b, p, F);
     }
     double fa, fb;   /* the better endpoint */
-    bool oka = control_function(s, a, b, pa, &fa, m), okb = control_function(s, a, b, pb, &fb, m);
+    bool oka = control_function(s, id, a, b, pa, &fa), okb = control_function(s, id, a, b, pb, &fb);
     if (!oka && !okb)
         return false;
     bool use_a = oka && (!okb || fa <= fb);
     memcpy(p, use_a ? pa : pb, 3 * sizeof *p);
     *F = use_a ? fa : fb;
-    if (use_a)   /* m holds b's test: redo a's */
-        control_function(s, a, b, pa, &fa, m);
     return true;
 }
 
@@ -270,33 +345,50 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
     return PP5_OK;
 }
 
+/* Puts id in the queue under (cost, tie).  The keys are distinct (one id
+ * per edge, ties on its vertices), so the pops do not depend on how the
+ * heap was built. */
+static void queue_put(s003_t *s, int id, double cost, uint64_t tie)
+{
+    if (s->bulk)
+        sw_queue_append(&s->w->queue, id, cost, tie);
+    else
+        sw_queue_set(&s->w->queue, id, cost, tie);
+}
+
+static void queue_drop(s003_t *s, int id)
+{
+    if (sw_queue_has(&s->w->queue, id))
+        sw_queue_remove(&s->w->queue, id);
+}
+
 static void s003_forget(s003_t *s, int id)
 {
-    sw_queue_remove(&s->w->queue, id);
+    queue_drop(s, id);
     s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
     s->dirty[id] = 0;
 }
 
-/* Queues live edge id (a < b) under its cost, or under the lower bound. */
-static void s003_cost(s003_t *s, int id, int a, int b, bool now)
+/* Queues live edge id (a < b; twin: its other corner, or -1) under its
+ * cost, or under the lower bound. */
+static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
 {
-    sw_t *w = s->w;
     if (!now && s->lazy) {
-        sw_queue_set(&w->queue, id, lower_bound(s, a, b), sw_edge_tie(a, b));
+        queue_put(s, id, lower_bound(s, id, twin), sw_edge_tie(a, b));
         s->dirty[id] = 1;
         return;
     }
-    double p[3], F;
-    sw_merge_t m;
+    double F;
     s->dirty[id] = 0;
-    if (s003_evaluate(s, a, b, p, &F, &m))
-        sw_queue_set(&w->queue, id, F, sw_edge_tie(a, b));
+    if (s003_evaluate(s, id, a, b, s->newp + 3 * (size_t)id, &F))
+        queue_put(s, id, F, sw_edge_tie(a, b));
     else
-        sw_queue_remove(&w->queue, id);
+        queue_drop(s, id);
 }
 
 /* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
- * it is frozen; `twin`, the edge's other corner (or -1), leaves the queue. */
+ * it is frozen; `twin`, the edge's other corner (-1: a boundary edge),
+ * leaves the queue. */
 static pp5_status_t s003_queue(s003_t *s, int id, int twin)
 {
     sw_t *w = s->w;
@@ -308,23 +400,29 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
         a = b, b = t;
     }
     if (s003_frozen(s, a, b)) {
-        sw_queue_remove(&w->queue, id);
+        queue_drop(s, id);
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
-    s003_cost(s, id, a, b, false);
+    s003_cost(s, id, twin, a, b, false);
     return PP5_OK;
 }
 
+/* Queues every edge (the queue is empty). */
 static pp5_status_t queue_all_edges(s003_t *s)
 {
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
+    s->bulk = true;
     for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
         if (!w->face_alive[c / 3])
             continue;
-        if (w->tri[c] < w->nextv[c] || sw_corner_on_boundary(w, c))
-            st = s003_queue(s, c, -1);   /* canonical already; nothing queued yet */
+        if (sw_corner_on_boundary(w, c))
+            st = s003_queue(s, c, -1);
+        else if (w->tri[c] < w->nextv[c])   /* canonical; its twin is not queued */
+            st = s003_queue(s, c, sw_find_corner(w, w->nextv[c], w->tri[c]));
     }
+    s->bulk = false;
+    sw_queue_heapify(&w->queue);
     return st;
 }
 
@@ -363,6 +461,9 @@ static pp5_status_t s003_requeue_at(s003_t *s, int x)
 static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
 {
     sw_t *w = s->w;
+    const int32_t *fan = sw_fan(w, v);
+    for (int i = 0; i < w->fan_n[v]; i++)   /* the faces that moved or changed a vertex */
+        measure_face(s, fan[i] / 3);
     if (s->importance[gone] > s->importance[v])
         s->importance[v] = s->importance[gone];
     s->corner[v] |= s->corner[gone];
@@ -384,24 +485,27 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
     return st;
 }
 
-/* Every queued edge is frozen: thaw them all (§2.3). */
+/* Every queued edge is frozen: thaw them all (§2.3) into the empty queue. */
 static void s003_thaw(s003_t *s)
 {
     sw_t *w = s->w;
     s->epoch++;
+    s->bulk = true;
     w->stats->unfreezes++;
     for (int i = 0; i < s->dn; i++) {
         int id = s->dlist[i];
         uint8_t state = s->dstate[id];
         s->dstate[id] = S003_LIVE;
         if (state == S003_DEFERRED) {
-            sw_queue_set(&w->queue, id, s->dcost[id], s->dtie[id]);
+            queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
-            s003_cost(s, id, a < b ? a : b, a < b ? b : a, false);
+            s003_cost(s, id, sw_find_corner(w, b, a), a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
+    s->bulk = false;
+    sw_queue_heapify(&w->queue);
 }
 
 /* Phase 2 (§2.3): new weights, every edge re-costed and re-sorted. */
@@ -419,30 +523,33 @@ static pp5_status_t s003_switch_phase(s003_t *s)
     return queue_all_edges(s);
 }
 
-/* Deletes one edge popped from the queue, if it may go. */
-static pp5_status_t s003_delete(s003_t *s, const sw_qentry_t *e)
+/* Takes the edge at the top of the queue: sets it aside if it is frozen,
+ * costs it in place if its key was a lower bound, else deletes it if it
+ * may go (its new point is the one its cost was found at). */
+static pp5_status_t s003_take_top(s003_t *s)
 {
     sw_t *w = s->w;
-    int a = w->tri[e->id], b = w->nextv[e->id];
+    sw_qentry_t e = w->queue.e[0];
+    int a = w->tri[e.id], b = w->nextv[e.id];
     if (a > b) {
         int t = a;
         a = b, b = t;
     }
     if (s003_frozen(s, a, b)) {
-        s->dcost[e->id] = e->cost, s->dtie[e->id] = e->tie;
-        return s003_defer(s, e->id, s->dirty[e->id] ? S003_DEFERRED_DIRTY : S003_DEFERRED);
+        sw_queue_remove(&w->queue, e.id);
+        s->dcost[e.id] = e.cost, s->dtie[e.id] = e.tie;
+        return s003_defer(s, e.id, s->dirty[e.id] ? S003_DEFERRED_DIRTY : S003_DEFERRED);
     }
-    if (s->dirty[e->id]) {   /* its key was a lower bound: cost it and queue it again */
-        s003_cost(s, e->id, a, b, true);
+    if (s->dirty[e.id]) {   /* moves down to its cost, or leaves */
+        s003_cost(s, e.id, -1, a, b, true);
         return PP5_OK;
     }
-    double p[3], F;
+    sw_queue_remove(&w->queue, e.id);
+    const double *p = s->newp + 3 * (size_t)e.id;
     sw_merge_t m;
-    if (!s003_evaluate(s, a, b, p, &F, &m)) {
-        w->stats->refused_other++;   /* its queue entry came with an allowed merge */
-        return PP5_OK;
-    }
     int32_t S[2] = {a, b};
+    if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
+        return PP5_OK;   /* the link test, left for now (control_function) */
     pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
     for (int r = 0; r < m.n_removed; r++)
         for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
@@ -455,15 +562,14 @@ static pp5_status_t s003_loop(s003_t *s)
     sw_t *w = s->w;
     const mesh_simplify_opts_t *o = s->o;
     pp5_status_t st = PP5_OK;
-    sw_qentry_t e;
     double switch_at = o->s003_switch_fraction * w->input_faces;
     while (st == PP5_OK && w->faces_alive > o->target_faces) {
         if (s->phase == 0 && o->s003_switch_fraction > 0 && w->faces_alive <= switch_at) {
             st = s003_switch_phase(s);
             continue;
         }
-        if (sw_queue_pop(&w->queue, &e)) {
-            st = s003_delete(s, &e);
+        if (w->queue.n > 0) {
+            st = s003_take_top(s);
             continue;
         }
         if (s->dn == 0)
@@ -473,12 +579,16 @@ static pp5_status_t s003_loop(s003_t *s)
     return st;
 }
 
-static double mean_edge_length(const sw_t *w)
+/* Measures every face; the input's mean edge length. */
+static double measure_all(s003_t *s)
 {
+    const sw_t *w = s->w;
     double total = 0;
     long edges = 0;
+    for (int f = 0; f < w->nf; f++)
+        measure_face(s, f);
     for (int c = 0; c < 3 * w->nf; c++) {
-        total += dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
+        total += s->elen[c];
         edges++;
     }
     return edges && total > 0 ? total / (double)edges : 1.0;
@@ -500,11 +610,14 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     s->dirty = calloc(nc, 1);
     s->dcost = malloc(sizeof *s->dcost * nc);
     s->dtie = malloc(sizeof *s->dtie * nc);
+    s->elen = malloc(sizeof *s->elen * nc);
+    s->eround = malloc(sizeof *s->eround * nc);
+    s->newp = malloc(sizeof *s->newp * 3 * nc);
     pp5_status_t st = PP5_OK;
     if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dirty ||
-        !s->dcost || !s->dtie)
+        !s->dcost || !s->dtie || !s->elen || !s->eround || !s->newp)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
-    s->mean_edge = mean_edge_length(w);
+    s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
         if (w->vert_alive[v])
             classify_vertex(s, v);
@@ -517,6 +630,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
     free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dlist);
+    free(s->elen), free(s->eround), free(s->newp);
     free(s);
     return st;
 }
