@@ -138,7 +138,7 @@ bool sw_queue_pop(sw_queue_t *q, sw_qentry_t *out)
 {
     if (q->n == 0)
         return false;
-    *out = (sw_qentry_t){q->e[0].cost, q->tie[q->e[0].id], q->e[0].id};
+    *out = sw_queue_top(q);
     sw_queue_remove(q, out->id);
     return true;
 }

@@ -529,7 +529,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
 static pp5_status_t s003_take_top(s003_t *s)
 {
     sw_t *w = s->w;
-    sw_qentry_t e = w->queue.e[0];
+    sw_qentry_t e = sw_queue_top(&w->queue);
     int a = w->tri[e.id], b = w->nextv[e.id];
     if (a > b) {
         int t = a;

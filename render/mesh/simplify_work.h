@@ -66,6 +66,11 @@ void sw_queue_remove(sw_queue_t *q, int id);
 void sw_queue_append(sw_queue_t *q, int id, double cost, uint64_t tie);
 void sw_queue_heapify(sw_queue_t *q);
 bool sw_queue_pop(sw_queue_t *q, sw_qentry_t *out);
+/* The least entry, left in place (the queue must not be empty). */
+static inline sw_qentry_t sw_queue_top(const sw_queue_t *q)
+{
+    return (sw_qentry_t){q->e[0].cost, q->tie[q->e[0].id], q->e[0].id};
+}
 static inline bool sw_queue_has(const sw_queue_t *q, int id)
 {
     return q->where[id] >= 0;
