@@ -19,12 +19,20 @@ typedef struct {
     double q[10];   /* a2 ab ac ad b2 bc bd c2 cd d2 */
 } quadric_t;
 
-static void quadric_add_plane(quadric_t *Q, const double n[3], double d, double w)
+/* The plane n.x + d = 0 as a quadric (GH97 eq. 2's K_p), to be added with
+ * a weight to each vertex it touches. */
+static void quadric_of_plane(const double n[3], double d, quadric_t *K)
 {
     double a = n[0], b = n[1], c = n[2];
-    double t[10] = {a * a, a * b, a * c, a * d, b * b, b * c, b * d, c * c, c * d, d * d};
+    double *q = K->q;
+    q[0] = a * a, q[1] = a * b, q[2] = a * c, q[3] = a * d, q[4] = b * b;
+    q[5] = b * c, q[6] = b * d, q[7] = c * c, q[8] = c * d, q[9] = d * d;
+}
+
+static void quadric_add(quadric_t *Q, const quadric_t *K, double w)
+{
     for (int i = 0; i < 10; i++)
-        Q->q[i] += w * t[i];
+        Q->q[i] += w * K->q[i];
 }
 
 /* Written out: the compiler keeps a 10-step loop as a loop at -O2. */
@@ -130,8 +138,10 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
         double u[3] = {n[0] / len, n[1] / len, n[2] / len};
         const double *p0 = w->pos + 3 * w->tri[3 * f];
         double d = -sw_dot(u, p0), area = area_weighted ? 0.5 * len : 1.0;
+        quadric_t K;
+        quadric_of_plane(u, d, &K);
         for (int c = 0; c < 3; c++)
-            quadric_add_plane(&s->Q[w->tri[3 * f + c]], u, d, area);
+            quadric_add(&s->Q[w->tri[3 * f + c]], &K, area);
         for (int c = 3 * f; c < 3 * f + 3; c++) {
             if (!sw_corner_on_boundary(w, c))
                 continue;
@@ -145,8 +155,9 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
             for (int k = 0; k < 3; k++)
                 m[k] /= ml;
             double wgt = boundary_weight * (area_weighted ? sw_dot(e, e) : 1.0);
-            quadric_add_plane(&s->Q[a], m, -sw_dot(m, pa), wgt);
-            quadric_add_plane(&s->Q[b], m, -sw_dot(m, pa), wgt);
+            quadric_of_plane(m, -sw_dot(m, pa), &K);
+            quadric_add(&s->Q[a], &K, wgt);
+            quadric_add(&s->Q[b], &K, wgt);
         }
     }
 }
