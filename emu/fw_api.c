@@ -38,7 +38,7 @@ void gp_record_error(gp_t *gp, const char *fmt, ...)
 
 /* Takes the smallest spare block holding `bytes` but not more than twice that
  * (so a small request does not pin a huge block); NULL if none. */
-static gp_block_t *take_spare(gp_t *gp, size_t bytes)
+static gp_block_t *take_spare(gp_t *gp, size_t bytes, bool zero)
 {
     gp_block_t *best = NULL;
     for (gp_block_t *b = gp->spare; b; b = b->next) {
@@ -59,11 +59,13 @@ static gp_block_t *take_spare(gp_t *gp, size_t bytes)
         best->next->prev = best->prev;
     gp->spare_bytes -= best->capacity_bytes;
     SPARE_UNPOISON(best->align, bytes);
-    memset(best->align, 0, bytes);          /* fw_api.h: memory is zeroed */
+    if (zero)
+        memset(best->align, 0, bytes);      /* fw_api.h: memory is zeroed */
     return best;
 }
 
-void *fw_alloc(gp_t *gp, size_t bytes)
+/* fw_alloc, and fw_alloc_copy without zeroing what the copy overwrites. */
+static void *alloc_block(gp_t *gp, size_t bytes, bool zero)
 {
     if (bytes > gp->mem_capacity_bytes - gp->mem_used_bytes) {
         gp_record_error(gp, "fw_alloc(%zu bytes) exceeds local memory: %llu of %llu bytes in use "
@@ -71,10 +73,10 @@ void *fw_alloc(gp_t *gp, size_t bytes)
                         (unsigned long long)gp->mem_used_bytes, (unsigned long long)gp->mem_capacity_bytes);
         return NULL;
     }
-    gp_block_t *b = bytes >= SPARE_MIN_BYTES ? take_spare(gp, bytes) : NULL;
+    gp_block_t *b = bytes >= SPARE_MIN_BYTES ? take_spare(gp, bytes, zero) : NULL;
     if (!b) {
         size_t capacity = bytes ? bytes : 1;
-        b = calloc(1, sizeof *b + capacity);
+        b = zero ? calloc(1, sizeof *b + capacity) : malloc(sizeof *b + capacity);
         if (!b) {
             gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
             return NULL;
@@ -99,6 +101,19 @@ void *fw_alloc(gp_t *gp, size_t bytes)
         gp->mem_peak_bytes = gp->mem_used_bytes;
     }
     return b->align;
+}
+
+void *fw_alloc(gp_t *gp, size_t bytes)
+{
+    return alloc_block(gp, bytes, true);
+}
+
+void *fw_alloc_copy(gp_t *gp, const void *src, size_t bytes)
+{
+    void *p = alloc_block(gp, bytes, false);
+    if (p && bytes > 0)
+        memcpy(p, src, bytes);
+    return p;
 }
 
 void fw_free(gp_t *gp, void *p)
@@ -183,8 +198,11 @@ void fw_dcache_access(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t of
                       int is_store)
 {
     const gp_block_t *b = gp_block_of(gp, block_base, offset, bytes, "fw_dcache_access");
-    if (b && bytes > 0)
-        gp_dcache_access(&gp->dcache, b->emu_addr + offset, bytes, is_store != 0, ops);
+    if (!b || bytes == 0)
+        return;
+    uint64_t addr = b->emu_addr + offset;
+    if (!gp_dcache_hit_most_recent(&gp->dcache, addr, bytes, is_store != 0, ops))
+        gp_dcache_access(&gp->dcache, addr, bytes, is_store != 0, ops);
 }
 
 void fw_rx_deposit(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset, size_t bytes)

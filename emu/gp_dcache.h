@@ -48,6 +48,23 @@ void gp_dcache_reset(gp_dcache_t *c);
 /* Looks up every line of [addr, addr + bytes) (bytes > 0) and adds the
  * lookups to ops->dcache_hits / dcache_misses / dcache_writebacks. */
 void gp_dcache_access(gp_dcache_t *c, uint64_t addr, uint64_t bytes, bool store, fw_ops_t *ops);
+/* gp_dcache_access's commonest case without the call: an access inside one
+ * line that is already the most recent of its set (a hit that changes no
+ * order).  True when it was that case and has been counted. */
+static inline bool gp_dcache_hit_most_recent(gp_dcache_t *c, uint64_t addr, uint64_t bytes,
+                                             bool store, fw_ops_t *ops)
+{
+    uint64_t line = addr >> c->line_shift;
+    if (((addr + bytes - 1) >> c->line_shift) != line)
+        return false;
+    uint64_t *first = c->entry + (size_t)(line & c->set_mask) * c->ways;
+    if ((*first & ~GP_DCACHE_DIRTY) != line + 1)
+        return false;
+    ops->dcache_hits++;
+    if (store)
+        *first |= GP_DCACHE_DIRTY;
+    return true;
+}
 /* Drops the lines of [addr, addr + bytes) without writing them back (memory
  * there was just overwritten by the ring port). */
 void gp_dcache_invalidate(gp_dcache_t *c, uint64_t addr, uint64_t bytes);

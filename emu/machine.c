@@ -53,7 +53,9 @@ pp5_status_t machine_position(const machine_t *m, ring_addr_t a, unsigned *pos)
                     a.type < 4 ? names[a.type] : "of unknown type", a.index, m->n_gp, m->n_rn);
 }
 
-pp5_status_t machine_send(machine_t *m, const ring_msg_t *msg, pp5_tick_t t)
+/* Sends msg, copying its payload, or adopting it when `owned` (malloc'd,
+ * msg->payload) is given. */
+static pp5_status_t send_on_ring(machine_t *m, const ring_msg_t *msg, void *owned, pp5_tick_t t)
 {
     unsigned s, d;
     pp5_status_t st = machine_position(m, msg->src, &s);
@@ -61,9 +63,15 @@ pp5_status_t machine_send(machine_t *m, const ring_msg_t *msg, pp5_tick_t t)
         st = machine_position(m, msg->dst, &d);
     }
     if (st != PP5_OK) {
+        free(owned);
         return st;
     }
-    return ring_send(&m->ring, msg, s, d, t);
+    return owned ? ring_send_owned(&m->ring, msg, owned, s, d, t) : ring_send(&m->ring, msg, s, d, t);
+}
+
+pp5_status_t machine_send(machine_t *m, const ring_msg_t *msg, pp5_tick_t t)
+{
+    return send_on_ring(m, msg, NULL, t);
 }
 
 static pp5_status_t machine_gp_send(void *ctx, gp_t *gp, const ring_msg_t *msg, pp5_tick_t t)
@@ -74,6 +82,14 @@ static pp5_status_t machine_gp_send(void *ctx, gp_t *gp, const ring_msg_t *msg, 
 static pp5_status_t machine_unit_send(void *ctx, const ring_msg_t *msg, pp5_tick_t t)
 {
     return machine_send(ctx, msg, t);
+}
+
+/* A renderer's reply: its payload buffer goes with it (no copy of 64 KB
+ * backing-store blocks on every read). */
+static pp5_status_t machine_renderer_send(void *ctx, const ring_msg_t *msg, void *owned,
+                                          pp5_tick_t t)
+{
+    return send_on_ring(ctx, msg, owned, t);
 }
 
 /* ---- timeline observers ---- */
@@ -207,7 +223,7 @@ pp5_status_t machine_init(machine_t *m, const pp5_params_t *p)
         }
     }
     for (unsigned i = 0; i < m->n_rn; i++) {
-        st = rnode_init(&m->rn[i], i, p, &m->sched, machine_unit_send, m);
+        st = rnode_init(&m->rn[i], i, p, &m->sched, machine_renderer_send, m);
         if (st != PP5_OK) {
             machine_free(m);
             return st;

@@ -19,26 +19,45 @@ pp5_status_t renderer_init(renderer_t *r, int index, const pp_params_t *pp)
     r->pp = *pp;
     if ((st = pp_array_alloc(&r->array)) != PP5_OK)
         return st;
-    if ((st = backing_alloc(&r->bs)) != PP5_OK) {
+    r->bs_words = calloc(PP_BS_BLOCKS, sizeof *r->bs_words);
+    if (!r->bs_words)
+        st = pp5_fail(PP5_E_NOMEM, "renderer %d: out of memory", index);
+    else
+        st = backing_alloc(&r->bs);
+    if (st != PP5_OK) {
         pp_array_free(r->array);
+        free(r->bs_words);
         r->array = NULL;
-        return st;
+        r->bs_words = NULL;
     }
-    return PP5_OK;
+    return st;
+}
+
+/* The held words of `block` are no longer the backing store's. */
+static void bs_words_drop(const renderer_t *r, unsigned block)
+{
+    free(r->bs_words[block]);
+    r->bs_words[block] = NULL;
 }
 
 void renderer_free(renderer_t *r)
 {
+    for (unsigned b = 0; r->bs_words && b < PP_BS_BLOCKS; b++)
+        bs_words_drop(r, b);
+    free(r->bs_words);
     pp_array_free(r->array);
     backing_free(r->bs);
     r->array = NULL;
     r->bs = NULL;
+    r->bs_words = NULL;
 }
 
 void renderer_reset(renderer_t *r)
 {
     pp_array_clear(r->array);
     backing_clear(r->bs);
+    for (unsigned b = 0; b < PP_BS_BLOCKS; b++)
+        bs_words_drop(r, b);
     r->x0 = r->y0 = 0;
     memset(&r->stats, 0, sizeof r->stats);
 }
@@ -124,6 +143,8 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
             r->stats.bs_blocks++;
         }
         bs_channel_retire(&ch, now);
+        if (in.op == PP_OP_BSSTORE)
+            bs_words_drop(r, in.x);
         pp_array_exec(r->array, r->bs, &in, r->x0, r->y0);
         out.instructions++;
         out.class_cycles[op->cls] += cyc;
@@ -182,7 +203,17 @@ pp5_status_t renderer_bs_read(const renderer_t *r, unsigned block, uint32_t *out
     if (block >= PP_BS_BLOCKS)
         return pp5_fail(PP5_E_FIRMWARE, "renderer %d: backing-store block %u (blocks are 0..%u)",
                         r->index, block, PP_BS_BLOCKS - 1);
+    uint32_t *held = r->bs_words[block];
+    if (held) {
+        memcpy(out, held, sizeof *held * PP_COUNT);
+        return PP5_OK;
+    }
     backing_read_block(r->bs, block, out);
+    /* keep a copy for the next read; without memory, just do not keep it */
+    if ((held = malloc(sizeof *held * PP_COUNT)) != NULL) {
+        memcpy(held, out, sizeof *held * PP_COUNT);
+        r->bs_words[block] = held;
+    }
     return PP5_OK;
 }
 
@@ -191,6 +222,7 @@ pp5_status_t renderer_bs_write(renderer_t *r, unsigned block, const uint32_t *in
     if (block >= PP_BS_BLOCKS)
         return pp5_fail(PP5_E_FIRMWARE, "renderer %d: backing-store block %u (blocks are 0..%u)",
                         r->index, block, PP_BS_BLOCKS - 1);
+    bs_words_drop(r, block);
     backing_write_block(r->bs, block, in);
     return PP5_OK;
 }

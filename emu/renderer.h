@@ -57,6 +57,13 @@ typedef struct {
     int x0, y0;                  /* screen origin of the region (QEE x, y of PP (0,0)) */
     struct pp_array *array;      /* 208 bit planes + E + F (heap, ~420 KB) */
     struct backing *bs;          /* 128 blocks x 16384 PPs (heap, 8 MB) */
+    /* Host speed only: the words of each block as renderer_bs_read last
+     * returned them (NULL: not held), dropped whenever the block is written.
+     * A frame reads the same unchanged bricks again and again, and turning
+     * 32 bit planes into words was a quarter of the host time of a frame.
+     * So the backing store is written only through renderer_bs_write and
+     * streams (BSSTORE), never by poking bs->plane. */
+    uint32_t **bs_words;
     renderer_stats_t stats;
 } renderer_t;
 

@@ -406,7 +406,9 @@ static pp5_status_t rnode_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
     }
     pp5_status_t st = PP5_OK;
     if (it->has_reply) {
-        st = n->send(n->send_ctx, &it->reply, n->busy_until);
+        void *owned = it->reply_payload;   /* the ring frees it from now on */
+        it->reply_payload = NULL;
+        st = n->send(n->send_ctx, &it->reply, owned, n->busy_until);
     }
     rnode_item_free(it);
     if (st == PP5_OK && n->count > 0) {

@@ -39,7 +39,9 @@
 #include "ring_msg.h"
 #include "pp5_sched.h"
 
-typedef pp5_status_t (*rnode_send_fn)(void *ctx, const ring_msg_t *msg, pp5_tick_t t);
+/* Sends msg at t; `owned` (NULL, or msg->payload from malloc) passes the
+ * payload buffer to the receiver, which frees it. */
+typedef pp5_status_t (*rnode_send_fn)(void *ctx, const ring_msg_t *msg, void *owned, pp5_tick_t t);
 typedef void (*rnode_trace_fn)(void *ctx, unsigned index, const char *what, pp5_tick_t start,
                                pp5_tick_t end);
 

@@ -205,6 +205,19 @@ static pp5_status_t ring_pump(void *ctx, uint64_t pos, pp5_tick_t now)
 
 pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos, pp5_tick_t t)
 {
+    void *copy = NULL;
+    if (msg->payload_bytes > 0) {
+        if (!(copy = malloc(msg->payload_bytes)))
+            return pp5_fail(PP5_E_NOMEM, "ring: out of memory copying a %zu-byte payload",
+                            msg->payload_bytes);
+        memcpy(copy, msg->payload, msg->payload_bytes);
+    }
+    return ring_send_owned(r, msg, copy, src_pos, dst_pos, t);
+}
+
+pp5_status_t ring_send_owned(ring_t *r, const ring_msg_t *msg, void *owned, unsigned src_pos,
+                             unsigned dst_pos, pp5_tick_t t)
+{
     PP5_ASSERT(src_pos < r->n_nodes && dst_pos < r->n_nodes, "ring position out of range");
     PP5_ASSERT(msg->cls < RING_CLASS_COUNT, "bad traffic class");
     PP5_ASSERT(t >= r->sched->now, "ring send in the past");
@@ -213,6 +226,7 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
         size_t cap = p->cap ? p->cap * 2 : 16;
         uint32_t *q = malloc(cap * sizeof *q);
         if (!q) {
+            free(owned);
             return pp5_fail(PP5_E_NOMEM, "ring: out of memory for a node FIFO");
         }
         for (size_t i = 0; i < p->count; i++) {
@@ -234,20 +248,14 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
     uint32_t slot = 0;
     pp5_status_t st = ring_take_slot(r, &slot);
     if (st != PP5_OK) {
+        free(owned);
         return st;
     }
     ring_flight_t *f = &r->flights[slot];
     f->msg = *msg;
-    f->payload_copy = NULL;
-    if (msg->payload_bytes > 0) {
-        f->payload_copy = malloc(msg->payload_bytes);
-        if (!f->payload_copy) {
-            r->free_slots[r->n_free++] = slot;
-            return pp5_fail(PP5_E_NOMEM, "ring: out of memory copying a %zu-byte payload",
-                            msg->payload_bytes);
-        }
-        memcpy(f->payload_copy, msg->payload, msg->payload_bytes);
-    }
+    f->payload_copy = msg->payload_bytes > 0 ? owned : NULL;
+    if (msg->payload_bytes == 0)
+        free(owned);
     f->msg.payload = f->payload_copy;
     f->in_use = 1;
     f->src_pos = src_pos;

@@ -123,6 +123,11 @@ unsigned ring_hops(const ring_t *r, unsigned src_pos, unsigned dst_pos);
  * scheduler events on r->sched. */
 pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos,
                        pp5_tick_t t);
+/* ring_send for a payload the sender gives away: `owned` is msg->payload,
+ * from malloc, and the ring keeps it instead of copying it (freed with the
+ * flight, or here on failure).  Host speed only: nothing else differs. */
+pp5_status_t ring_send_owned(ring_t *r, const ring_msg_t *msg, void *owned, unsigned src_pos,
+                             unsigned dst_pos, pp5_tick_t t);
 
 /* Limit node `pos` to `ports` simultaneous incoming messages (0 = unlimited). */
 pp5_status_t ring_set_rx_ports(ring_t *r, unsigned pos, unsigned ports);

@@ -1,5 +1,5 @@
 /* test_gp_alloc.c: GP host-memory handling: fw_alloc / fw_free reuse of freed large blocks (memory
- * comes back zeroed, local-memory accounting is by requested bytes, the
+ * comes back zeroed, fw_alloc_copy's holds its source, local-memory accounting is by requested bytes, the
  * capacity limit is unchanged) and payloads the GP keeps from the ring. */
 #include <stdint.h>
 #include <string.h>
@@ -55,6 +55,16 @@ static fw_status_t churn_start(gp_t *gp)
            (unsigned long long)fw_mem_used_bytes(gp), image + 70000 + 900000);
     fw_free(gp, large);
     fw_free(gp, small);
+    /* fw_alloc_copy skips the zeroing but not the copy: from a reused block
+     * (the freed ones above hold 0xa5 / 0x5a) it holds exactly the source */
+    static uint8_t src[300000];   /* big */
+    for (size_t i = 0; i < big; i++)
+        src[i] = (uint8_t)(i * 7u + 3u);
+    uint8_t *copy = fw_alloc_copy(gp, src, big);
+    EXPECT(copy && memcmp(copy, src, big) == 0, "fw_alloc_copy holds its source");
+    EXPECT(fw_mem_used_bytes(gp) == image + big, "%llu bytes in use with the copy, want %zu",
+           (unsigned long long)fw_mem_used_bytes(gp), image + big);
+    fw_free(gp, copy);
     return FW_OK;
 }
 
@@ -76,7 +86,7 @@ TEST(gp_alloc_reuse_zeroed_and_accounted)
     sched_stop_t why;
     CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
     CHECK_EQ(why, SCHED_STOP_IDLE);
-    CHECK_EQ(g_checks_run, 3 * 4 + 3);
+    CHECK_EQ(g_checks_run, 3 * 4 + 3 + 2);
     CHECK_EQ(m.gp[0].mem_peak_bytes, 1024 + 70000 + 900000);
     machine_free(&m);
 }

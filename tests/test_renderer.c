@@ -155,6 +155,47 @@ TEST(renderer_backing_store_round_trip_under_enable)
     free(w);
 }
 
+/* The first mismatching PP of block `block` against want, or PP_COUNT. */
+static unsigned bs_mismatch(renderer_t *r, unsigned block, const uint32_t *want, uint32_t *buf)
+{
+    if (renderer_bs_read(r, block, buf) != PP5_OK)
+        return 0;
+    unsigned p = 0;
+    while (p < PP_COUNT && buf[p] == want[p])
+        p++;
+    return p;
+}
+
+/* renderer_bs_read keeps the words it returned (renderer.h); every way of
+ * writing the block must drop them: a stream's BSSTORE, renderer_bs_write
+ * and renderer_reset, each after a read that filled the copy. */
+TEST(renderer_backing_store_reads_never_return_stale_words)
+{
+    renderer_t *r = timing_renderer();
+    REQUIRE(r);
+    uint32_t *a = malloc(PP_COUNT * sizeof *a), *b = malloc(PP_COUNT * sizeof *b);
+    uint32_t *zero = calloc(PP_COUNT, sizeof *zero), *buf = malloc(PP_COUNT * sizeof *buf);
+    REQUIRE(a && b && zero && buf);
+    for (unsigned p = 0; p < PP_COUNT; p++)
+        a[p] = p * 2654435761u + 1u, b[p] = ~a[p] ^ (p << 7);
+    REQUIRE(renderer_bs_write(r, 5, a) == PP5_OK);
+    CHECK_EQ(bs_mismatch(r, 5, a, buf), PP_COUNT);
+    CHECK_EQ(bs_mismatch(r, 5, a, buf), PP_COUNT);   /* the second read is served from the copy */
+    /* a stream stores other words into the block */
+    REQUIRE(renderer_write_field(r, 64, 32, b) == PP5_OK);
+    pp_stream_t s;
+    pp_stream_init(&s);
+    pp_emit_bsstore(&s, 5, 64);
+    REQUIRE(run(r, &s, NULL) == PP5_OK);
+    pp_stream_free(&s);
+    CHECK_EQ(bs_mismatch(r, 5, b, buf), PP_COUNT);
+    REQUIRE(renderer_bs_write(r, 5, a) == PP5_OK);
+    CHECK_EQ(bs_mismatch(r, 5, a, buf), PP_COUNT);
+    renderer_reset(r);
+    CHECK_EQ(bs_mismatch(r, 5, zero, buf), PP_COUNT);
+    free(a), free(b), free(zero), free(buf);
+}
+
 /* Executes raw words; returns the status and leaves the message in pp5_error_text. */
 static pp5_status_t exec_words(renderer_t *r, const uint32_t *w, size_t n)
 {

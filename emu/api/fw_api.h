@@ -95,6 +95,9 @@ void *fw_state(const gp_t *gp);
 
 /* Local memory (see above). fw_free returns the bytes to the pool. */
 void *fw_alloc(gp_t *gp, size_t bytes);
+/* fw_alloc filled with a copy of `bytes` at src instead of zeros (host
+ * speed: a received unit or a built stream is not zeroed first). */
+void *fw_alloc_copy(gp_t *gp, const void *src, size_t bytes);
 void fw_free(gp_t *gp, void *p);
 uint64_t fw_mem_used_bytes(const gp_t *gp);
 

@@ -115,12 +115,11 @@ fw_status_t vr_fetch_send_exec(gp_t *gp, vr_state_t *s)
         }
         vr_stat_add(gp, s, VR_STAT_PP_STREAM_WORDS, st.n_words);
         size_t bytes = st.n_words * 4;
-        uint32_t *local = fw_alloc(gp, bytes);
+        uint32_t *local = fw_alloc_copy(gp, st.words, bytes);
         if (!local) {
             rc = FW_ERROR;
             break;
         }
-        memcpy(local, st.words, bytes);
         rc = fw_send(gp, ring_addr(RING_NODE_RENDERER, (unsigned)r), RING_MSG_RENDERER_EXEC, NULL,
                      local, bytes);
         fw_free(gp, local);
@@ -301,12 +300,11 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         return fw_fail(gp, "vr: unexpected data message (tag %u, %zu bytes)", tag, m->payload_bytes);
     uint64_t c0 = fw_cycles(gp);
     size_t bytes = vr_unit_bytes(s, id);
-    uint32_t *dst = fw_alloc(gp, bytes);
+    uint32_t *dst = fw_alloc_copy(gp, m->payload, bytes);
     if (!dst)
         return fw_fail(gp, "vr: GP %d local memory (%llu bytes) cannot hold unit %d of this "
                            "frame's footprint: partition does not fit",
                        s->g, (unsigned long long)fw_machine_info(gp)->local_mem_bytes, id);
-    memcpy(dst, m->payload, bytes);
     /* Delivery as gp.rx_dma says (fw_api.h, [U]): with DMA the port wrote
      * the unit into local memory, without it the GP copies every word. */
     fw_ops_t ops = {0};
