@@ -127,13 +127,30 @@ static inline double s001_walk_add(s001_walk_t *r, const s001_face_t *g, double 
     return wt;
 }
 
+/* The faces of fan[a .. b): vertex-neighbours, the whole weight to the fan's vertex. */
+static inline void s001_walk_range(s001_walk_t *r, const s001_face_t *faces,
+                                   const int32_t *fan, int a, int b)
+{
+    for (int i = a; i < b; i++)
+        s001_walk_add(r, faces + (unsigned)fan[i] / 3, 1.0);
+}
+
+/* The edge-neighbour at fan[i], half its weight to the fan's vertex, if it
+ * counts here; returns its weight (0 if not). */
+static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
+                                    const int32_t *fan, int i, bool counts)
+{
+    return counts ? s001_walk_add(r, faces + (unsigned)fan[i] / 3, 0.5) : 0;
+}
+
 /* The same for an interior fan of f's (non-degenerate) corner 3f + j:
  * rotational order with distinct ring vertices puts the two faces sharing
  * an edge with f either side of it, and no other face holds f's other
  * vertices, so positions alone tell the neighbours apart and the faces
- * between them are summed in a plain loop.  False if f's corner is not in
- * the fan (the general walk decides then). */
-static bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, int j)
+ * between them are summed in plain loops.  j is a constant at each call,
+ * so the choices on it fold away.  False if f's corner is not in the fan
+ * (the general walk decides then). */
+static inline bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, const int j)
 {
     const sw_t *w = s->w;
     int u = s->face[f].v[j], n = w->fan_n[u], me = 3 * f + j, p = 0;
@@ -143,30 +160,46 @@ static bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, int j)
     if (p == n || h->k + n > 3 * SW_MAX_FAN)
         return false;
     /* the face after f's corner holds f's vertex j + 2, the one before
-     * j + 1; an edge-neighbour through an earlier vertex of f counted there */
+     * j + 1; an edge-neighbour through an earlier vertex of f counted there,
+     * and no other face of this fan adds to the later vertex's lambda */
+    const int s_after = j == 0 ? 2 : j - 1, s_before = j == 2 ? 0 : j + 1;
     int after = p + 1 == n ? 0 : p + 1, before = p == 0 ? n - 1 : p - 1;
-    int s_after = j == 0 ? 2 : j - 1, s_before = j == 2 ? 0 : j + 1;
-    int stop[3] = {before, p, after};   /* in fan order */
-    if (p == 0)
-        stop[0] = p, stop[1] = after, stop[2] = before;
-    else if (p == n - 1)
-        stop[0] = after, stop[1] = before, stop[2] = p;
     const s001_face_t *faces = s->face;
+    double wt_after, wt_before;
     s001_walk_t r = {h->n0, h->lam[j], h->sum_w, h->max_w, h->area_sum, h->nb, h->k};
-    int i = 0;
-    for (int m = 0; m < 3; m++) {
-        for (; i < stop[m]; i++)
-            s001_walk_add(&r, faces + (unsigned)fan[i] / 3, 1.0);
-        int second = i == after ? s_after : i == before ? s_before : -1;
-        if (second > j)   /* no other face of this fan adds to lam[second] */
-            h->lam[second] += 0.5 * s001_walk_add(&r, faces + (unsigned)fan[i] / 3, 0.5);
-        i++;
+    bool count_after = s_after > j, count_before = s_before > j;
+    if (p == 0) {
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, 2, n - 1);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+    } else if (p == n - 1) {
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, 1, n - 2);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+    } else {
+        s001_walk_range(&r, faces, fan, 0, p - 1);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, p + 2, n);
     }
-    for (; i < n; i++)
-        s001_walk_add(&r, faces + (unsigned)fan[i] / 3, 1.0);
+    if (count_after)
+        h->lam[s_after] += 0.5 * wt_after;
+    if (count_before)
+        h->lam[s_before] += 0.5 * wt_before;
     h->lam[j] = r.lam_j, h->sum_w = r.sum_w, h->max_w = r.max_w, h->area_sum = r.area_sum;
     h->k = r.k;
     return true;
+}
+
+/* The faces at f's vertex j, by position where the fan allows it. */
+static inline void s001_hood_fan(s001_hood_t *h, const s001_t *s, int f, const int j,
+                                 bool distinct)
+{
+    const sw_t *w = s->w;
+    int u = s->face[f].v[j];
+    if (!distinct || w->fan_kind[u] != SW_FAN_CYCLE || w->fan_n[u] < 3 ||
+        !s001_hood_fan_cycle(h, s, f, j))
+        s001_hood_fan_any(h, s, f, j);
 }
 
 /* The collapse point and cost of face f; false if f may not collapse. */
@@ -186,12 +219,9 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
     h.n0 = f0->n, h.sum_w = 0, h.max_w = 0, h.area_sum = a0;
     h.lam[0] = h.lam[1] = h.lam[2] = 0, h.k = 0;
     bool distinct = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-    for (int j = 0; j < 3; j++) {
-        int v = t[j];
-        if (!distinct || w->fan_kind[v] != SW_FAN_CYCLE || w->fan_n[v] < 3 ||
-            !s001_hood_fan_cycle(&h, s, f, j))
-            s001_hood_fan_any(&h, s, f, j);
-    }
+    s001_hood_fan(&h, s, f, 0, distinct);   /* j constant: see s001_hood_fan_cycle */
+    s001_hood_fan(&h, s, f, 1, distinct);
+    s001_hood_fan(&h, s, f, 2, distinct);
     double *lam = h.lam, sum_w = h.sum_w;
     int k = h.k;
     if (pinned >= 0) {
