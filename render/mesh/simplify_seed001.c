@@ -37,6 +37,7 @@ typedef struct {
     s001_face_t *face;      /* per face, kept current for the faces alive */
 } s001_t;
 
+/* Renews f's record from the working mesh (after f was built or moved). */
 static void s001_face_update(s001_t *s, int f)
 {
     const sw_t *w = s->w;
@@ -127,7 +128,9 @@ static inline double s001_walk_add(s001_walk_t *r, const s001_face_t *g, double 
     return wt;
 }
 
-/* The faces of fan[a .. b): vertex-neighbours, the whole weight to the fan's vertex. */
+/* The faces of fan[a .. b): vertex-neighbours, the whole weight to the fan's
+ * vertex.  Corners are never negative, and the unsigned division by 3 is
+ * the cheaper one. */
 static inline void s001_walk_range(s001_walk_t *r, const s001_face_t *faces,
                                    const int32_t *fan, int a, int b)
 {
@@ -143,13 +146,14 @@ static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
     return counts ? s001_walk_add(r, faces + (unsigned)fan[i] / 3, 0.5) : 0;
 }
 
-/* The same for an interior fan of f's (non-degenerate) corner 3f + j:
- * rotational order with distinct ring vertices puts the two faces sharing
- * an edge with f either side of it, and no other face holds f's other
- * vertices, so positions alone tell the neighbours apart and the faces
- * between them are summed in plain loops.  j is a constant at each call,
- * so the choices on it fold away.  False if f's corner is not in the fan
- * (the general walk decides then). */
+/* The faces at f's vertex j when its fan is interior and f is not
+ * degenerate (the same sums as s001_hood_fan_any, in the same order): the
+ * fan's rotational order with distinct ring vertices puts the two faces
+ * sharing an edge with f either side of f's corner 3f + j, and no other
+ * face holds f's other vertices, so positions alone tell the neighbours
+ * apart and the faces between them are summed in plain loops, with no
+ * comparison per face.  False if f's corner is not in the fan (the general
+ * walk decides then). */
 static inline bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, const int j)
 {
     const sw_t *w = s->w;
@@ -219,7 +223,7 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
     h.n0 = f0->n, h.sum_w = 0, h.max_w = 0, h.area_sum = a0;
     h.lam[0] = h.lam[1] = h.lam[2] = 0, h.k = 0;
     bool distinct = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-    s001_hood_fan(&h, s, f, 0, distinct);   /* j constant: see s001_hood_fan_cycle */
+    s001_hood_fan(&h, s, f, 0, distinct);
     s001_hood_fan(&h, s, f, 1, distinct);
     s001_hood_fan(&h, s, f, 2, distinct);
     double *lam = h.lam, sum_w = h.sum_w;
