@@ -21,26 +21,37 @@
 
 #include "simplify_work.h"
 
+/* What an evaluation reads of a face, in one cache line: its unit normal n,
+ * plane offset -n.p0 and area, and its vertices. */
+typedef struct {
+    _Alignas(64) double n[3];
+    double offset, area;
+    int32_t v[3];
+} s001_face_t;
+
 typedef struct {
     sw_t *w;
     seed001_cost_t cost;
     uint8_t *on_boundary;   /* per vertex, kept current */
     uint32_t *mark, epoch;  /* per face, for de-duplicating neighbourhoods */
-    double *plane;          /* per face: unit normal, offset, area (kept current) */
+    s001_face_t *face;      /* per face, kept current for the faces alive */
 } s001_t;
 
-/* The face's unit normal n, its plane offset -n.p0 and its area. */
-static void s001_face_plane(s001_t *s, int f)
+/* Renews f's record from the working mesh (after f was built or moved). */
+static void s001_face_update(s001_t *s, int f)
 {
     const sw_t *w = s->w;
-    double *pl = s->plane + 5 * f;
-    sw_face_normal(w, f, pl);
-    double len = sqrt(sw_dot(pl, pl));
-    pl[4] = 0.5 * len;
+    s001_face_t *fc = s->face + f;
+    double n[3];
+    sw_face_normal(w, f, n);
+    double len = sqrt(sw_dot(n, n));
+    fc->area = 0.5 * len;
     if (len > 0)
         for (int k = 0; k < 3; k++)
-            pl[k] /= len;
-    pl[3] = -sw_dot(pl, w->pos + 3 * w->tri[3 * f]);
+            n[k] /= len;
+    memcpy(fc->n, n, sizeof n);
+    fc->offset = -sw_dot(n, w->pos + 3 * w->tri[3 * f]);
+    memcpy(fc->v, w->tri + 3 * f, sizeof fc->v);
 }
 
 static uint32_t s001_next_epoch(s001_t *s)
@@ -52,48 +63,171 @@ static uint32_t s001_next_epoch(s001_t *s)
     return s->epoch;
 }
 
+/* A face's neighbourhood as it is summed: eqs. (1)-(3) and (6)-(7)'s sums,
+ * and the neighbours for eq. (5). */
+typedef struct {
+    const double *n0;
+    double sum_w, max_w, area_sum, lam[3];
+    int k;
+    const s001_face_t *nb[3 * SW_MAX_FAN];
+} s001_hood_t;
+
+/* Neighbour g of f shares f's vertex j and, if second >= 0, that one too. */
+static inline void s001_hood_add(s001_hood_t *h, const s001_face_t *g, int j, int second)
+{
+    double wt = 1.0 - fabs(sw_dot(h->n0, g->n));
+    if (second < 0)
+        h->lam[j] += wt;
+    else
+        h->lam[j] += 0.5 * wt, h->lam[second] += 0.5 * wt;
+    h->sum_w += wt;
+    h->max_w = sw_max(h->max_w, wt);
+    h->area_sum += g->area;
+    h->nb[h->k++] = g;
+}
+
+/* The faces at f's vertex j, any fan: a face's other corners name the
+ * second vertex it shares with f, if any; an edge-neighbour is in two of
+ * the fans and counts from the first. */
+static void s001_hood_fan_any(s001_hood_t *h, const s001_t *s, int f, int j)
+{
+    const sw_t *w = s->w;
+    const int32_t *t = s->face[f].v, *fan = sw_fan(w, t[j]);
+    int n = w->fan_n[t[j]], lo = j == 0 ? 1 : 0, hi = j == 2 ? 1 : 2;
+    int t_lo = t[lo], t_hi = t[hi];
+    for (int i = 0; i < n && h->k < 3 * SW_MAX_FAN; i++) {
+        int c = fan[i], g = c / 3;
+        if (g == f)
+            continue;
+        int y = w->nextv[c], z = w->prevv[c];
+        int second = t_hi == y || t_hi == z ? hi : t_lo == y || t_lo == z ? lo : -1;
+        if (second >= 0 && second < j)
+            continue;
+        s001_hood_add(h, s->face + g, j, second);
+    }
+}
+
+/* The running sums of one fan walk, kept in registers. */
+typedef struct {
+    const double *n0;
+    double lam_j, sum_w, max_w, area_sum;
+    const s001_face_t **nb;
+    int k;
+} s001_walk_t;
+
+/* Neighbour g, counting `share` (1 or 1/2) of its weight for the fan's
+ * vertex; returns the weight. */
+static inline double s001_walk_add(s001_walk_t *r, const s001_face_t *g, double share)
+{
+    double wt = 1.0 - fabs(sw_dot(r->n0, g->n));
+    r->lam_j += share * wt;   /* 1.0 * wt is wt */
+    r->sum_w += wt;
+    r->max_w = sw_max(r->max_w, wt);
+    r->area_sum += g->area;
+    r->nb[r->k++] = g;
+    return wt;
+}
+
+/* The faces of fan[a .. b): vertex-neighbours, the whole weight to the fan's
+ * vertex.  Corners are never negative, and the unsigned division by 3 is
+ * the cheaper one. */
+static inline void s001_walk_range(s001_walk_t *r, const s001_face_t *faces,
+                                   const int32_t *fan, int a, int b)
+{
+    for (int i = a; i < b; i++)
+        s001_walk_add(r, faces + (unsigned)fan[i] / 3, 1.0);
+}
+
+/* The edge-neighbour at fan[i], half its weight to the fan's vertex, if it
+ * counts here; returns its weight (0 if not). */
+static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
+                                    const int32_t *fan, int i, bool counts)
+{
+    return counts ? s001_walk_add(r, faces + (unsigned)fan[i] / 3, 0.5) : 0;
+}
+
+/* The faces at f's vertex j when its fan is interior and f is not
+ * degenerate (the same sums as s001_hood_fan_any, in the same order): the
+ * fan's rotational order with distinct ring vertices puts the two faces
+ * sharing an edge with f either side of f's corner 3f + j, and no other
+ * face holds f's other vertices, so positions alone tell the neighbours
+ * apart and the faces between them are summed in plain loops, with no
+ * comparison per face.  False if f's corner is not in the fan (the general
+ * walk decides then). */
+static inline bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, const int j)
+{
+    const sw_t *w = s->w;
+    int u = s->face[f].v[j], n = w->fan_n[u], me = 3 * f + j, p = 0;
+    const int32_t *fan = sw_fan(w, u);
+    while (p < n && fan[p] != me)
+        p++;
+    if (p == n || h->k + n > 3 * SW_MAX_FAN)
+        return false;
+    /* the face after f's corner holds f's vertex j + 2, the one before
+     * j + 1; an edge-neighbour through an earlier vertex of f counted there,
+     * and no other face of this fan adds to the later vertex's lambda */
+    const int s_after = j == 0 ? 2 : j - 1, s_before = j == 2 ? 0 : j + 1;
+    int after = p + 1 == n ? 0 : p + 1, before = p == 0 ? n - 1 : p - 1;
+    const s001_face_t *faces = s->face;
+    double wt_after, wt_before;
+    s001_walk_t r = {h->n0, h->lam[j], h->sum_w, h->max_w, h->area_sum, h->nb, h->k};
+    bool count_after = s_after > j, count_before = s_before > j;
+    if (p == 0) {
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, 2, n - 1);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+    } else if (p == n - 1) {
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, 1, n - 2);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+    } else {
+        s001_walk_range(&r, faces, fan, 0, p - 1);
+        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
+        s001_walk_range(&r, faces, fan, p + 2, n);
+    }
+    if (count_after)
+        h->lam[s_after] += 0.5 * wt_after;
+    if (count_before)
+        h->lam[s_before] += 0.5 * wt_before;
+    h->lam[j] = r.lam_j, h->sum_w = r.sum_w, h->max_w = r.max_w, h->area_sum = r.area_sum;
+    h->k = r.k;
+    return true;
+}
+
+/* The faces at f's vertex j, by position where the fan allows it. */
+static inline void s001_hood_fan(s001_hood_t *h, const s001_t *s, int f, const int j,
+                                 bool distinct)
+{
+    const sw_t *w = s->w;
+    int u = s->face[f].v[j];
+    if (!distinct || w->fan_kind[u] != SW_FAN_CYCLE || w->fan_n[u] < 3 ||
+        !s001_hood_fan_cycle(h, s, f, j))
+        s001_hood_fan_any(h, s, f, j);
+}
+
 /* The collapse point and cost of face f; false if f may not collapse. */
 static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
 {
     const sw_t *w = s->w;
-    const int32_t *t = w->tri + 3 * f;
+    const int32_t *t = s->face[f].v;
     int n_boundary = 0, pinned = -1;
     for (int j = 0; j < 3; j++)
         if (s->on_boundary[t[j]])
             n_boundary++, pinned = j;
     if (n_boundary >= 2)
         return false;
-    const double *n0 = s->plane + 5 * f;
-    double a0 = n0[4], sum_w = 0, max_w = 0, area_sum = a0, lam[3] = {0, 0, 0};
-    int32_t nb[3 * SW_MAX_FAN];
-    int k = 0;
-    for (int j = 0; j < 3; j++) {
-        const int32_t *fan = sw_fan(w, t[j]);
-        int n = w->fan_n[t[j]], lo = j == 0 ? 1 : 0, hi = j == 2 ? 1 : 2;
-        int t_lo = t[lo], t_hi = t[hi];
-        for (int i = 0; i < n && k < 3 * SW_MAX_FAN; i++) {
-            int c = fan[i], g = c / 3;
-            if (g == f)
-                continue;
-            /* vertex-neighbour (one shared vertex, t[j]) or edge-neighbour (two):
-             * the face's other corners name the second one, if any; an
-             * edge-neighbour is in two of the fans and counts from the first */
-            int y = w->nextv[c], z = w->prevv[c];
-            int second = t_hi == y || t_hi == z ? hi : t_lo == y || t_lo == z ? lo : -1;
-            if (second >= 0 && second < j)
-                continue;
-            const double *ng = s->plane + 5 * g;
-            double wt = 1.0 - fabs(sw_dot(n0, ng));
-            if (second < 0)
-                lam[j] += wt;
-            else
-                lam[j] += 0.5 * wt, lam[second] += 0.5 * wt;
-            sum_w += wt;
-            max_w = sw_max(max_w, wt);
-            area_sum += ng[4];
-            nb[k++] = g;
-        }
-    }
+    const s001_face_t *f0 = s->face + f;
+    double a0 = f0->area;
+    s001_hood_t h;
+    h.n0 = f0->n, h.sum_w = 0, h.max_w = 0, h.area_sum = a0;
+    h.lam[0] = h.lam[1] = h.lam[2] = 0, h.k = 0;
+    bool distinct = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    s001_hood_fan(&h, s, f, 0, distinct);
+    s001_hood_fan(&h, s, f, 1, distinct);
+    s001_hood_fan(&h, s, f, 2, distinct);
+    double *lam = h.lam, sum_w = h.sum_w;
+    int k = h.k;
     if (pinned >= 0) {
         lam[0] = lam[1] = lam[2] = 0;
         lam[pinned] = 1;
@@ -108,12 +242,11 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
                 lam[2] * w->pos[3 * t[2] + c];
     double delta = 0;   /* eq. (5): the largest, not the summed, plane error */
     for (int i = 0; i < k; i++) {
-        const double *pl = s->plane + 5 * nb[i];
-        double e = sw_dot(pl, v0) + pl[3];
+        double e = sw_dot(h.nb[i]->n, v0) + h.nb[i]->offset;
         delta = sw_max(delta, e * e);
     }
-    double lar = area_sum > 0 ? a0 / area_sum : 0;             /* eq. (6) */
-    double lri = k > 0 ? sum_w / k + max_w : 0;                 /* eq. (7) */
+    double lar = h.area_sum > 0 ? a0 / h.area_sum : 0;          /* eq. (6) */
+    double lri = k > 0 ? sum_w / k + h.max_w : 0;               /* eq. (7) */
     *cost = s->cost == SEED001_COST_EQ5 ? delta
           : s->cost == SEED001_COST_EQ5_LRI ? delta * lri : delta * lar * lri; /* eq. (8) */
     return true;
@@ -142,7 +275,7 @@ static void s001_refresh(s001_t *s, int v, const sw_merge_t *m)
         s->on_boundary[verts[i]] = sw_vertex_on_boundary(w, verts[i]);
     const int32_t *vfan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
-        s001_face_plane(s, vfan[i] / 3);
+        s001_face_update(s, vfan[i] / 3);
     uint32_t ep = s001_next_epoch(s);
     int32_t faces[4 * SW_MAX_FAN];
     int nf = 0;
@@ -162,15 +295,15 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
     s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, 1),
                 calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0,
-                malloc(sizeof(double) * 5 * ((size_t)w->nf + 1))};
-    if (!s.on_boundary || !s.mark || !s.plane) {
-        free(s.on_boundary), free(s.mark), free(s.plane);
+                aligned_alloc(_Alignof(s001_face_t), sizeof(s001_face_t) * ((size_t)w->nf + 1))};
+    if (!s.on_boundary || !s.mark || !s.face) {
+        free(s.on_boundary), free(s.mark), free(s.face);
         return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
     }
     for (int v = 0; v < w->nv; v++)
         s.on_boundary[v] = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
     for (int f = 0; f < w->nf; f++)
-        s001_face_plane(&s, f);
+        s001_face_update(&s, f);
     for (int f = 0; f < w->nf; f++)
         s001_queue(&s, f);
     pp5_status_t st = PP5_OK;
@@ -189,6 +322,6 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
     }
     free(s.on_boundary);
     free(s.mark);
-    free(s.plane);
+    free(s.face);
     return st;
 }
