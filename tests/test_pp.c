@@ -554,6 +554,77 @@ TEST(pp_every_op_matches_an_integer_model)
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
+/* Operands for the multiply's host-speed shortcuts (pp_kernels.inc): by
+ * block of 1024 PPs, no multiplier bit at all, small values whose carries
+ * die out early, values at the top of the m-bit range (carries ripple all
+ * the way), and random ones. */
+static uint32_t mul_operand(uint64_t *s, unsigned p, unsigned m, bool multiplier)
+{
+    uint32_t top = (uint32_t)mask_n(m);
+    switch ((p / 1024u) % 4u) {
+    case 0: return multiplier ? 0u : (uint32_t)rng_next(s);
+    case 1: return (uint32_t)rng_below(s, 8);
+    case 2: return top - (uint32_t)rng_below(s, 3);
+    default: return (uint32_t)rng_next(s);
+    }
+}
+
+TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
+{
+    static const unsigned nm[][2] = {{8, 4}, {16, 8}, {32, 16}, {32, 32}, {13, 5}};
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    uint32_t *a = malloc(PP_COUNT * 4), *b = malloc(PP_COUNT * 4), *d = malloc(PP_COUNT * 4),
+             *ctl = malloc(PP_COUNT * 4), *out = malloc(PP_COUNT * 4);
+    REQUIRE(a && b && d && ctl && out);
+    uint64_t s = 4242;
+    unsigned cases = 0, bad = 0;
+    for (int kernels = 0; kernels < 2; kernels++) {
+        pp_array_set_avx2(r->array, kernels);
+        for (size_t k = 0; k < sizeof nm / sizeof nm[0]; k++)
+            for (unsigned variant = 0; variant < 4; variant++) {
+                model_case_t c = {variant < 2 ? PP_OP_MUL : PP_OP_MULI, nm[k][0], nm[k][1], 0, 0,
+                                  variant & 1u, variant == 2 ? 5u : 0xfffffff3u};
+                for (unsigned p = 0; p < PP_COUNT; p++) {
+                    a[p] = mul_operand(&s, p, c.m, false);
+                    b[p] = mul_operand(&s, p, c.m, true);
+                    d[p] = (uint32_t)rng_next(&s);
+                    ctl[p] = (p / 1024u) % 8u == 7u ? 0u : 2u;   /* one block not enabled */
+                }
+                renderer_write_field(r, 0, 32, a);
+                renderer_write_field(r, 40, 32, b);
+                renderer_write_field(r, 80, 32, d);
+                renderer_write_field(r, 120, 2, ctl);
+                pp_stream_t st;
+                pp_stream_init(&st);
+                pp_emit_en_all(&st);
+                pp_emit_f_ld(&st, 121);
+                pp_emit_en_flag(&st);
+                emit_case(&st, &c);
+                REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
+                REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
+                            pp5_error_text());
+                pp_stream_free(&st);
+                renderer_read_field(r, 80, c.n, out);
+                cases++;
+                for (unsigned p = 0; p < PP_COUNT; p++) {
+                    uint64_t want = d[p] & mask_n(c.n);
+                    unsigned f;
+                    if (ctl[p])
+                        model(&c, a[p], b[p], want, 0, &want, &f);
+                    if (out[p] != want && bad++ < 3)
+                        CHECK_MSG(false, "%s n=%u m=%u sgn=%d PP %u (a=0x%x b=0x%x): 0x%x, want "
+                                  "0x%llx", pp_isa_info(c.op)->name, c.n, c.m, c.sgn, p, a[p],
+                                  b[p], out[p], (unsigned long long)want);
+                }
+            }
+    }
+    pp_array_set_avx2(r->array, true);
+    CHECK_EQ(bad, 0);
+    CHECK_EQ(cases, 2 * 5 * 4);
+    free(a); free(b); free(d); free(ctl); free(out);
+}
+
 TEST(pp_enable_ops_follow_their_truth_tables)
 {
     renderer_t *r = new_renderer();
