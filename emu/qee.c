@@ -163,9 +163,14 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
         K[c] = (int64_t)q->C * (16 * ((int64_t)y0 + c) + 64) + 8 * (int64_t)q->E;
     lanes_consts(T, K, bits);
     KCALL(use_avx2, lanes_add, D, T, bits);
+    /* Without the y^2 term D stays the same: only acc moves (host speed;
+     * the same bits as stepping D by zero). */
+    int64_t dD = 128 * (int64_t)q->C;
     for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
         emit(ctx, t, acc);
-        if (t + 1 < 128 / QEE_CHAINS)
-            KCALL(use_avx2, chains_step, acc, D, 128 * (int64_t)q->C, bits);
+        if (t + 1 < 128 / QEE_CHAINS && dD != 0)
+            KCALL(use_avx2, chains_step, acc, D, dD, bits);
+        else if (t + 1 < 128 / QEE_CHAINS)
+            KCALL(use_avx2, lanes_add, acc, D, bits);
     }
 }
