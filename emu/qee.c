@@ -1,6 +1,8 @@
 /* qee.c: the Quadratic Expression Evaluator (definition and overflow rule in qee.h). */
 #include "qee.h"
 
+#include <string.h>
+
 #include "pp_simd.h"
 
 bool qee_origin_ok(int x0, int y0)
@@ -139,13 +141,19 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
     for (unsigned i = 0; i < 128; i++)
         v[i] = qee_value(q, x0 + (int)i, y0);
     lanes_to_planes(v, bits, row0);
-    for (unsigned i = 0; i < 128; i++)
-        v[i] = (int64_t)q->B * (x0 + (int)i);
-    lanes_to_planes(v, bits, col);
+    /* Without the xy term B x is zero: no planes to build, no rows to add
+     * (host speed; the same bits). */
+    if (q->B == 0) {
+        memset(col, 0, sizeof *col * 2 * bits);
+    } else {
+        for (unsigned i = 0; i < 128; i++)
+            v[i] = (int64_t)q->B * (x0 + (int)i);
+        lanes_to_planes(v, bits, col);
+    }
     /* Chain c starts at row y0 + c: Q(x, y0 + c) = Q(x, y0) + c B x + C(2 y0 c + c^2) + E c,
      * with c B x = sum over the bits b of c of (B x) 2^b. */
     lanes_spread(acc, row0, 0, ~0u, bits);
-    for (unsigned b = 0; (1u << b) < QEE_CHAINS; b++) {
+    for (unsigned b = 0; q->B != 0 && (1u << b) < QEE_CHAINS; b++) {
         uint64_t lane_mask[QEE_LANES];
         for (unsigned j = 0; j < QEE_LANES; j++)
             lane_mask[j] = (chains_with_bit(b) >> (j / 2)) & 1u ? ~(uint64_t)0 : 0;
