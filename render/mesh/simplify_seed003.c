@@ -237,22 +237,10 @@ static double lower_bound(const s003_t *s, int id, int twin)
  * same doubles (sw_test_merge). */
 static bool face_turn(const sw_t *w, int c, const double p[3], double *cos_turn)
 {
-    int f = c / 3, at = c - 3 * f;
-    const int32_t *tv = w->tri + 3 * f;
-    const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
-    const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
-    const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
-    const double *n_old = w->fnormal + 3 * f;
-    double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
-    double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]}, n_new[3];
-    sw_cross(u, t, n_new);
-    double lo = sw_dot(n_old, n_old), ln = sw_dot(n_new, n_new);
-    if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
+    double n_new[3], d, len2;
+    if (!sw_face_turn(w, c, p, n_new, &d, &len2))
         return false;
-    double d = sw_dot(n_old, n_new);
-    if (lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)))
-        return false;
-    double l = sqrt(lo * ln), cs = l > 0 ? d / l : 1.0;
+    double l = sqrt(len2), cs = l > 0 ? d / l : 1.0;
     *cos_turn = cs > 1 ? 1 : cs < -1 ? -1 : cs;
     return true;
 }

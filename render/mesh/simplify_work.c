@@ -542,26 +542,9 @@ sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double 
     }
     if (v != SW_OK)
         return v;
-    for (int i = 0; i < m->n_keep; i++) {
-        int c = m->keep[i], f = c / 3, at = c - 3 * f;
-        const int32_t *tv = w->tri + 3 * f;
-        /* the one corner of the face in S moves to p */
-        const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
-        const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
-        const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
-        const double *n_old = w->fnormal + 3 * f;
-        double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
-        double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
-        sw_cross(u, t, m->n_new[i]);
-        double lo = sw_dot(n_old, n_old), ln = sw_dot(m->n_new[i], m->n_new[i]);
-        /* a new face of (almost) no area has no orientation left to keep */
-        if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
+    for (int i = 0; i < m->n_keep; i++)   /* the one corner of each face in S moves to p */
+        if (!sw_face_turn(w, m->keep[i], p, m->n_new[i], &m->turn_dot[i], &m->turn_len2[i]))
             return SW_FOLD;
-        double d = sw_dot(n_old, m->n_new[i]);
-        m->turn_dot[i] = d, m->turn_len2[i] = lo * ln;
-        if (lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)))
-            return SW_FOLD;
-    }
     return SW_OK;
 }
 

@@ -16,6 +16,7 @@
 #ifndef PP5_SIMPLIFY_WORK_H
 #define PP5_SIMPLIFY_WORK_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include "mesh_simplify.h"
@@ -195,6 +196,32 @@ static inline double sw_max(double a, double b)
 static inline double sw_min(double a, double b)
 {
     return a < b ? a : b;
+}
+
+/* The turn of the face of corner c when c's vertex moves to p: its new
+ * normal, n_old . n_new and |n_old|^2 |n_new|^2 (the cosine of the turn is
+ * dot / sqrt(len2)).  False where the face folds: no area left, or turned
+ * to fold_cos_min or past it.  The merge test (sw_test_merge) and seed
+ * 003's costing both decide folds by it. */
+static inline bool sw_face_turn(const sw_t *w, int c, const double p[3], double n_new[3],
+                                double *dot, double *len2)
+{
+    int f = c / 3, at = c - 3 * f;
+    const int32_t *tv = w->tri + 3 * f;
+    const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
+    const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
+    const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
+    const double *n_old = w->fnormal + 3 * f;
+    double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
+    double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
+    sw_cross(u, t, n_new);
+    double lo = sw_dot(n_old, n_old), ln = sw_dot(n_new, n_new);
+    /* a new face of (almost) no area has no orientation left to keep */
+    if (ln <= 1e-24 * (lo > 0 ? lo : 1.0) || ln == 0.0)
+        return false;
+    double d = sw_dot(n_old, n_new);
+    *dot = d, *len2 = lo * ln;
+    return !(lo > 0 && d <= (w->fold_cos_min == 0 ? 0.0 : w->fold_cos_min * sqrt(lo * ln)));
 }
 
 #endif
