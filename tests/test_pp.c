@@ -479,6 +479,29 @@ static void emit_case(pp_stream_t *s, const model_case_t *c)
     }
 }
 
+/* Loads a, b, d and ctl (bit 0: F, bit 1: E) into the fields emit_case
+ * uses, runs case c under that enable and reads d back into out. */
+static bool run_case(renderer_t *r, const model_case_t *c, const uint32_t *a, const uint32_t *b,
+                     const uint32_t *d, const uint32_t *ctl, uint32_t *out)
+{
+    renderer_write_field(r, 0, 32, a);
+    renderer_write_field(r, 40, 32, b);
+    renderer_write_field(r, 80, 32, d);
+    renderer_write_field(r, 120, 2, ctl);
+    pp_stream_t st;
+    pp_stream_init(&st);
+    pp_emit_en_all(&st);
+    pp_emit_f_ld(&st, 121);
+    pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
+    pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
+    emit_case(&st, c);
+    bool ok = CHECK_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st)) &&
+              CHECK_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
+                        pp5_error_text());
+    pp_stream_free(&st);
+    return ok && renderer_read_field(r, 80, c->n, out) == PP5_OK;
+}
+
 TEST(pp_every_op_matches_an_integer_model)
 {
     static const unsigned ops[] = {PP_OP_COPY, PP_OP_NOT, PP_OP_AND, PP_OP_OR, PP_OP_XOR,
@@ -512,22 +535,7 @@ TEST(pp_every_op_matches_an_integer_model)
                     }
                     if (c.op == PP_OP_CMPI && rep == 0)
                         c.imm = a[0];
-                    renderer_write_field(r, 0, 32, a);
-                    renderer_write_field(r, 40, 32, b);
-                    renderer_write_field(r, 80, 32, d);
-                    renderer_write_field(r, 120, 2, ctl);
-                    pp_stream_t st;
-                    pp_stream_init(&st);
-                    pp_emit_en_all(&st);
-                    pp_emit_f_ld(&st, 121);
-                    pp_emit_en_flag(&st);          /* E = bit 1 of ctl */
-                    pp_emit_f_ld(&st, 120);        /* F = bit 0 where enabled (else F = E = 0) */
-                    emit_case(&st, &c);
-                    REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
-                    REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
-                                pp5_error_text());
-                    pp_stream_free(&st);
-                    renderer_read_field(r, 80, c.n, out);
+                    REQUIRE(run_case(r, &c, a, b, d, ctl, out));
                     cases++;
                     for (unsigned p = 0; p < PP_COUNT; p++) {
                         unsigned e = (ctl[p] >> 1) & 1u, f_in = e ? ctl[p] & 1u : 0;
@@ -591,21 +599,7 @@ TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
                     d[p] = (uint32_t)rng_next(&s);
                     ctl[p] = (p / 1024u) % 8u == 7u ? 0u : 2u;   /* one block not enabled */
                 }
-                renderer_write_field(r, 0, 32, a);
-                renderer_write_field(r, 40, 32, b);
-                renderer_write_field(r, 80, 32, d);
-                renderer_write_field(r, 120, 2, ctl);
-                pp_stream_t st;
-                pp_stream_init(&st);
-                pp_emit_en_all(&st);
-                pp_emit_f_ld(&st, 121);
-                pp_emit_en_flag(&st);
-                emit_case(&st, &c);
-                REQUIRE_MSG(pp_stream_ok(&st), "%s", pp_stream_error(&st));
-                REQUIRE_MSG(renderer_execute(r, st.words, st.n_words, NULL) == PP5_OK, "%s",
-                            pp5_error_text());
-                pp_stream_free(&st);
-                renderer_read_field(r, 80, c.n, out);
+                REQUIRE(run_case(r, &c, a, b, d, ctl, out));
                 cases++;
                 for (unsigned p = 0; p < PP_COUNT; p++) {
                     uint64_t want = d[p] & mask_n(c.n);
