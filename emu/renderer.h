@@ -62,7 +62,9 @@ typedef struct {
      * A frame reads the same unchanged bricks again and again, and turning
      * 32 bit planes into words was a quarter of the host time of a frame.
      * So the backing store is written only through renderer_bs_write and
-     * streams (BSSTORE), never by poking bs->plane. */
+     * streams (BSSTORE), never by poking bs->plane.  Costs 64 KB of host
+     * memory per block read (at most 8 MB per renderer, as much again as
+     * the backing store). */
     uint32_t **bs_words;
     renderer_stats_t stats;
 } renderer_t;
