@@ -120,9 +120,47 @@ static void distance_map(void *ctx, int j, int thread)
     }
 }
 
+int scalar_ranked_cmp(const void *a, const void *b)
+{
+    const scalar_ranked_t *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key > y->key ? -1 : 1;
+    return x->index < y->index ? -1 : (x->index > y->index ? 1 : 0);
+}
+
+static pp5_status_t order_bricks(scalar_pyramid_t *p, scalar_level_t *L)
+{
+    int h = L->heights - 1 < SCALAR_BRICK_SHIFT ? L->heights - 1 : SCALAR_BRICK_SHIFT;
+    size_t n = (size_t)L->hx[h] * L->hy[h] * L->hz[h];
+    scalar_ranked_t *rank = malloc(n * sizeof *rank);
+    L->brick_order = malloc(n * sizeof *L->brick_order);
+    L->brick_coord = malloc(n * sizeof *L->brick_coord);
+    if (!rank || !L->brick_order || !L->brick_coord) {
+        free(rank);
+        return pp5_fail(PP5_E_NOMEM, "scalar pyramid: cannot allocate the brick order");
+    }
+    for (size_t i = 0; i < n; i++)
+        rank[i] = (scalar_ranked_t){L->node_max[h][i], (uint32_t)i};
+    qsort(rank, n, sizeof *rank, scalar_ranked_cmp);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t x = rank[i].index;
+        L->brick_order[i] = x;
+        L->brick_coord[i][0] = (uint16_t)(x % (uint32_t)L->hx[h]);
+        L->brick_coord[i][1] = (uint16_t)(x / (uint32_t)L->hx[h] % (uint32_t)L->hy[h]);
+        L->brick_coord[i][2] = (uint16_t)(x / ((uint32_t)L->hx[h] * (uint32_t)L->hy[h]));
+    }
+    free(rank);
+    L->brick_height = h;
+    L->brick_count = n;
+    p->bytes += n * (sizeof *L->brick_order + sizeof *L->brick_coord);
+    return PP5_OK;
+}
+
 void scalar_pyramid_free(scalar_pyramid_t *p)
 {
     for (int n = 0; n < MIP3D_MAX_LEVELS; n++) {
+        free(p->level[n].brick_order);
+        free(p->level[n].brick_coord);
         free(p->level[n].value);
         free(p->level[n].brick_dist);
         for (int h = 0; h < OCTREE_MAX_HEIGHT; h++)
@@ -193,6 +231,8 @@ static pp5_status_t build_levels(scalar_pyramid_t *p, const volume_t *v, int thr
             p->bytes += (size_t)SCALAR_THRESHOLDS * L->hx[b] * L->hy[b] * L->hz[b];
             st = parallel_for(threads, SCALAR_THRESHOLDS, distance_map, &job);
         }
+        if (st == PP5_OK)
+            st = order_bricks(p, L);
         if (nx == 1 && ny == 1 && nz == 1)
             break;
         nx = (nx + 1) / 2, ny = (ny + 1) / 2, nz = (nz + 1) / 2;

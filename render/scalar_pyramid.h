@@ -54,6 +54,14 @@ typedef struct {
      * exceeds threshold[j] (0: this one does; 255: none within 255).  NULL
      * when the level has no bricks of that height. */
     uint8_t *brick_dist;                   /* [j][bz][by][bx] */
+    /* Every node of height brick_height (SCALAR_BRICK_SHIFT, or the top
+     * when the level is smaller) by decreasing bound, ties by index: the
+     * order in which brick-order MIP (blend_bricks.h) visits them.  Bounds
+     * do not depend on the window, so one order serves every frame. */
+    int brick_height;
+    uint32_t *brick_order;
+    uint16_t (*brick_coord)[3];           /* per rank: the brick's node coordinates */
+    size_t brick_count;
 } scalar_level_t;
 
 typedef struct {
@@ -68,6 +76,15 @@ typedef struct {
     size_t bytes;
 } scalar_pyramid_t;
 
+/* A key and an index, ordered by decreasing key, ties by increasing index:
+ * a total order, so qsort's result is the same on every host.  The brick
+ * order uses the bounds as keys. */
+typedef struct {
+    float key;
+    uint32_t index;
+} scalar_ranked_t;
+int scalar_ranked_cmp(const void *a, const void *b);
+
 /* Deterministic for any thread count. */
 pp5_status_t scalar_pyramid_build(scalar_pyramid_t *p, const volume_t *v,
                                   scalar_pyramid_kind_t kind, int threads);
@@ -78,28 +95,44 @@ static inline float scalar_at(const scalar_level_t *L, int x, int y, int z)
     return L->value[((size_t)z * (size_t)L->ny + (size_t)y) * (size_t)L->nx + (size_t)x];
 }
 
+/* The seven lerps of a trilinear sample, in mip3d_trilerp's order. */
+static inline float scalar_lerp8(const float c[8], float wx, float wy, float wz)
+{
+    float a = c[0] + wx * (c[1] - c[0]);
+    float b = c[2] + wx * (c[3] - c[2]);
+    float d = c[4] + wx * (c[5] - c[4]);
+    float e = c[6] + wx * (c[7] - c[6]);
+    float f = a + wy * (b - a);
+    float g = d + wy * (e - d);
+    return f + wz * (g - f);
+}
+
 /* Trilinear interpolation at level coordinates q whose floors are fl,
- * clamping to the edge voxels: mip3d_trilerp's arithmetic, one component. */
+ * clamping to the edge voxels: mip3d_trilerp's arithmetic, one component.
+ * Away from the edges no index needs clamping, so the eight voxels sit at
+ * fixed strides from the first (the same voxels, so the same value). */
 static inline float scalar_trilerp(const scalar_level_t *L, const float q[3], const int fl[3])
 {
     int x0 = fl[0], y0 = fl[1], z0 = fl[2];
     float wx = q[0] - (float)x0, wy = q[1] - (float)y0, wz = q[2] - (float)z0;
+    float c[8];
+    if (x0 >= 0 && y0 >= 0 && z0 >= 0 && x0 < L->nx - 1 && y0 < L->ny - 1 && z0 < L->nz - 1) {
+        size_t sy = (size_t)L->nx, sz = sy * (size_t)L->ny;
+        const float *v = L->value + (size_t)z0 * sz + (size_t)y0 * sy + (size_t)x0;
+        c[0] = v[0], c[1] = v[1], c[2] = v[sy], c[3] = v[sy + 1];
+        c[4] = v[sz], c[5] = v[sz + 1], c[6] = v[sz + sy], c[7] = v[sz + sy + 1];
+        return scalar_lerp8(c, wx, wy, wz);
+    }
     int x1 = mip3d_clamp_index(x0 + 1, L->nx), y1 = mip3d_clamp_index(y0 + 1, L->ny);
     int z1 = mip3d_clamp_index(z0 + 1, L->nz);
     x0 = mip3d_clamp_index(x0, L->nx);
     y0 = mip3d_clamp_index(y0, L->ny);
     z0 = mip3d_clamp_index(z0, L->nz);
-    float c000 = scalar_at(L, x0, y0, z0), c100 = scalar_at(L, x1, y0, z0);
-    float c010 = scalar_at(L, x0, y1, z0), c110 = scalar_at(L, x1, y1, z0);
-    float c001 = scalar_at(L, x0, y0, z1), c101 = scalar_at(L, x1, y0, z1);
-    float c011 = scalar_at(L, x0, y1, z1), c111 = scalar_at(L, x1, y1, z1);
-    float a = c000 + wx * (c100 - c000);
-    float b = c010 + wx * (c110 - c010);
-    float c = c001 + wx * (c101 - c001);
-    float d = c011 + wx * (c111 - c011);
-    float e = a + wy * (b - a);
-    float f = c + wy * (d - c);
-    return e + wz * (f - e);
+    c[0] = scalar_at(L, x0, y0, z0), c[1] = scalar_at(L, x1, y0, z0);
+    c[2] = scalar_at(L, x0, y1, z0), c[3] = scalar_at(L, x1, y1, z0);
+    c[4] = scalar_at(L, x0, y0, z1), c[5] = scalar_at(L, x1, y0, z1);
+    c[6] = scalar_at(L, x0, y1, z1), c[7] = scalar_at(L, x1, y1, z1);
+    return scalar_lerp8(c, wx, wy, wz);
 }
 
 /* Level-n coordinates and floors of level-0 position p. */
