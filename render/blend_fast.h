@@ -73,8 +73,21 @@ static inline float fast_ray_param(const fast_ray_t *r)
     return r->rule == SKIP_RAY1 ? r->mip.m_max : (r->rule == SKIP_RAY2 ? r->threshold : 0.0f);
 }
 
-/* Level cell (clamped) of the point ov + t dv, with level coordinates and floors. */
-v4i fast_cell(const fast_level_t *lv, v4f ov, float t, v4f *qv, v4i *flv);
+/* Level cell (clamped) of the point ov + t dv, with level coordinates and
+ * floors.  The three axes side by side: each lane does exactly the scalar
+ * operations of the reference (ISO C mode: no fused multiply-add). */
+static inline v4i fast_cell(const fast_level_t *lv, v4f ov, float t, v4f *qv, v4i *flv)
+{
+    v4f tv = {t, t, t, t};
+    v4f pv = ov + tv * lv->dv_v;
+    *qv = (pv + 0.5f) * lv->inv_scale - 0.5f;
+    v4i iv = __builtin_convertvector(*qv, v4i);
+    *flv = iv + (__builtin_convertvector(iv, v4f) > *qv);   /* -1 where truncation rounded up */
+    v4i cv = *flv & ~(*flv < 0);
+    v4i over = cv > lv->top_v;
+    return (cv & ~over) | (lv->top_v & over);
+}
+
 /* Where ov + t dv leaves the box of cells [first, last) (INFINITY: never;
  * faces on the grid's edge hold the clamped cells beyond). */
 static inline float fast_box_exit(const fast_level_t *lv, v4f ov, const int first[3],
@@ -102,6 +115,11 @@ void fast_brick_cube(const int c[3], int d, int first[3], int last[3]);
 
 /* Material of the sample at position k (the reference's expressions). */
 float fast_sample(const fast_ray_t *r, long k);
+/* DEMIP after ray 1 (r->mip) and ray 2 (stop j): reading B's gap test, the
+ * counts (drawn and all so far, plus the j + 1 positions of ray 2) and the
+ * colour. */
+void fast_demip_finish(const fast_ray_t *r, long j, long drawn, long all, float rgb[3],
+                       raycast_counts_t *counts);
 /* Ray 2's stop from ray 1's records (see blend_trace_fast.c), or -1. */
 long fast_stop_from_records(const records_t *rec, float g, float threshold);
 

@@ -19,6 +19,13 @@ void blend_ctx_init(blend_ctx_t *c, const scalar_pyramid_t *p, const camera_t *c
     blend_frame_init(&c->frame, b, cam, p->min_value, p->max_value, v->early_termination);
 }
 
+float blend_level3d(const blend_ctx_t *c, int level2d)
+{
+    float top = (float)(c->pyr->levels - 1);
+    float level3d = log2f(c->sample_step * (float)(1 << level2d)) - c->level3d_offset;
+    return level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+}
+
 bool blend_geom_begin(const blend_ctx_t *c, float px, float py, int level2d, blend_geom_t *g)
 {
     const camera_t *cam = c->camera;
@@ -37,9 +44,7 @@ bool blend_geom_begin(const blend_ctx_t *c, float px, float py, int level2d, ble
     g->t_start = g->t0;
     if (g->perspective && g->t_start < 1e-3f)
         g->t_start = 1e-3f;
-    float top = (float)(c->pyr->levels - 1);
-    float level3d = log2f(g->base) - c->level3d_offset;
-    g->level3d = level3d < 0.0f ? 0.0f : (level3d > top ? top : level3d);
+    g->level3d = blend_level3d(c, level2d);
     g->positions = g->perspective ? -1 : raycast_parallel_positions(g->t0, g->t1, g->base);
     return true;
 }

@@ -23,7 +23,10 @@
  * threshold known from the start lets a ray pass everything dimmer, in
  * front of the maximum too.  Batches of a row are traced in a fixed order,
  * so counts stay deterministic.
- * DEMIP counts one ray per texel; its samples include both passes. */
+ * DEMIP counts one ray per texel; its samples include both passes.
+ * The renderer casts MIP and DEMIP under parallel projection in brick
+ * order instead (blend_bricks.h: same images, fewer steps); this tracer
+ * stays MIDA's and the yardstick's neighbour. */
 #ifndef PP5_BLEND_TRACE_H
 #define PP5_BLEND_TRACE_H
 
@@ -53,6 +56,8 @@ typedef struct {
     long positions;                /* parallel: positions in [t0, t1] */
 } blend_geom_t;
 
+/* The 3D level a ray of 2D level level2d starts at (parallel: throughout). */
+float blend_level3d(const blend_ctx_t *c, int level2d);
 /* False when the ray misses the box (its colour is black). */
 bool blend_geom_begin(const blend_ctx_t *c, float px, float py, int level2d, blend_geom_t *g);
 

@@ -63,20 +63,6 @@ int fast_threshold_level(const fast_level_t *lv, skip_rule_t rule, float param)
     return j;
 }
 
-/* Three axes side by side: each lane does exactly the scalar operations of
- * the reference (ISO C mode: no fused multiply-add). */
-v4i fast_cell(const fast_level_t *lv, v4f ov, float t, v4f *qv, v4i *flv)
-{
-    v4f tv = {t, t, t, t};
-    v4f pv = ov + tv * lv->dv_v;
-    *qv = (pv + 0.5f) * lv->inv_scale - 0.5f;
-    v4i iv = __builtin_convertvector(*qv, v4i);
-    *flv = iv + (__builtin_convertvector(iv, v4f) > *qv);   /* -1 where truncation rounded up */
-    v4i cv = *flv & ~(*flv < 0);
-    v4i over = cv > lv->top_v;
-    return (cv & ~over) | (lv->top_v & over);
-}
-
 static inline v4i position_cell(const fast_ray_t *r, long k, v4f *qv, v4i *flv)
 {
     return fast_cell(r->lv, r->ov_v, r->g.t0 + (float)k * r->lv->base, qv, flv);

@@ -152,21 +152,30 @@ static void count_ray(const fast_ray_t *r, raycast_counts_t *counts)
 /* Ray 2, reading B's gap test and the colour of one DEMIP ray after ray 1. */
 static void finish_demip(fast_ray_t *r, float g, float rgb[3], raycast_counts_t *counts)
 {
-    mip_ray_t ray1 = r->mip;
     long drawn = r->drawn, all = r->all;
-    float threshold = demip_ray2_threshold(ray1.m_max, r->lv->f->eps);
+    float threshold = demip_ray2_threshold(r->mip.m_max, r->lv->f->eps);
     long j = fast_stop_from_records(&r->rec, g, threshold);
+    mip_ray_t ray1 = r->mip;
     if (j < 0) {
         fast_ray_start(r, SKIP_RAY2, threshold);
         fast_ray_run(r);
         j = r->stop;
         drawn += r->drawn;
     }
-    PP5_ASSERT(j >= 0 && j <= ray1.k_max, "DEMIP ray 2 passed the maximum");
+    r->mip = ray1;
+    fast_demip_finish(r, j, drawn, all, rgb, counts);
+}
+
+void fast_demip_finish(const fast_ray_t *r, long j, long drawn, long all, float rgb[3],
+                       raycast_counts_t *counts)
+{
+    const mip_ray_t *ray1 = &r->mip;
+    float threshold = demip_ray2_threshold(ray1->m_max, r->lv->f->eps);
+    PP5_ASSERT(j >= 0 && j <= ray1->k_max, "DEMIP ray 2 passed the maximum");
     all += j + 1;
     bool occluded = false;
     if (r->lv->f->reading == DEMIP_READING_B)
-        for (long k = j + 1; k < ray1.k_max; k++) {
+        for (long k = j + 1; k < ray1->k_max; k++) {
             drawn++;
             all++;
             if (demip_is_gap(fast_sample(r, k), threshold)) {
@@ -178,7 +187,7 @@ static void finish_demip(fast_ray_t *r, float g, float rgb[3], raycast_counts_t 
     counts->samples_skipped += (uint64_t)(all - drawn);
     const blend_geom_t *gm = &r->g;
     float t_hit = gm->t0 + (float)j * gm->base;
-    demip_colour(r->lv->f, gm->o, gm->d, gm->t0, t_hit, ray1.m_max, occluded, rgb);
+    demip_colour(r->lv->f, gm->o, gm->d, gm->t0, t_hit, ray1->m_max, occluded, rgb);
 }
 
 /* Ray 1 of MIP/DEMIP from the guess, again from 0 where nothing exceeded
