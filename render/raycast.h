@@ -79,13 +79,15 @@ typedef struct {
     /* Sample positions the octree let the ray pass without drawing: those a
      * ray without skipping would visit (all in the volume, or up to early
      * termination) minus those drawn, so samples + samples_skipped with the
-     * octree on equals samples with it off. */
+     * octree on equals samples with it off.  In brick order (MIP and DEMIP
+     * in the renderer, blend_bricks.h) a MIP ray has no early stop: its
+     * whole window is the base. */
     uint64_t samples_skipped;
     /* MIP and DEMIP rays (blend_trace.h) first try a threshold guessed from
      * their neighbour; when it was too high the ray is traced again and the
      * first attempt's samples are counted here as well as in `samples`, so
      * samples - samples_retraced + samples_skipped equals the samples of a
-     * ray without skipping.  Always 0 for compositing. */
+     * ray without skipping.  Always 0 for compositing and in brick order. */
     uint64_t samples_retraced;
 } raycast_counts_t;
 

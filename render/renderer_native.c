@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "blend_bricks.h"
 #include "blend_trace.h"
 #include "mip2d_row.h"
 #include "parallel.h"
@@ -96,6 +97,8 @@ void native_renderer_free(native_renderer_t *r)
     scalar_pyramid_free(&r->scalar);
     mip2d_free(&r->mip2d);
     gaze_level_tables_free(&r->tables);
+    for (int l = 0; l < MIP2D_MAX_LEVELS; l++)
+        blend_bins_free(&r->bins[l]);
     free(r->level_best);
     free(r->level_now);
     memset(r, 0, sizeof *r);
@@ -128,6 +131,10 @@ typedef struct {
     image8_t *out;
     int rows_total;               /* texel rows over all levels */
     int row_level[MIP2D_MAX_LEVELS + 1]; /* prefix sums of texel rows */
+    /* MIP and DEMIP in brick order (blend_bricks.h): the tiles of all
+     * levels numbered as one range (the bins are the renderer's). */
+    int tile_level[MIP2D_MAX_LEVELS + 1];
+    pp5_status_t tile_status[PARALLEL_MAX_THREADS];
     struct {
         raycast_counts_t c;
         char pad[64];             /* keep threads' counters on separate cache lines */
@@ -234,6 +241,70 @@ static void job_cast_row(void *ctx, int item, int thread)
             n = 0;
         }
     }
+}
+
+/* The needed, not yet cast texels of one tile, traced in brick order. */
+static void job_cast_tile(void *ctx, int item, int thread)
+{
+    frame_job_t *job = ctx;
+    mip2d_t *m = &job->r->mip2d;
+    int l = 0;
+    while (item >= job->tile_level[l + 1])
+        l++;
+    const blend_bins_t *b = &job->r->bins[l];
+    int tile = item - job->tile_level[l];
+    int x0 = tile % b->tiles_x * BLEND_TILE, y0 = tile / b->tiles_x * BLEND_TILE;
+    static _Thread_local int ti[BLEND_TILE * BLEND_TILE], tj[BLEND_TILE * BLEND_TILE];
+    static _Thread_local float rgb[BLEND_TILE * BLEND_TILE][3];
+    int n = 0;
+    for (int j = y0; j < y0 + BLEND_TILE && j < m->h[l]; j++)
+        for (int i = x0; i < x0 + BLEND_TILE && i < m->w[l]; i++) {
+            size_t at = (size_t)j * m->w[l] + i;
+            if (m->need[l][at] && !m->cast[l][at]) {
+                ti[n] = i;
+                tj[n++] = j;
+            }
+        }
+    if (n == 0)
+        return;
+    pp5_status_t st = blend_trace_tile(&job->blend, b, tile, n, ti, tj, rgb,
+                                       &job->counts[thread].c);
+    if (st != PP5_OK) {
+        job->tile_status[thread] = st;
+        return;
+    }
+    for (int k = 0; k < n; k++) {
+        size_t at = (size_t)tj[k] * m->w[l] + ti[k];
+        memcpy(m->rgb[l] + at * 3, rgb[k], sizeof rgb[k]);
+        m->cast[l][at] = 1;
+    }
+}
+
+/* Bins every level's bricks to the tiles that have texels to cast. */
+static pp5_status_t frame_bin_bricks(frame_job_t *job)
+{
+    const mip2d_t *m = &job->r->mip2d;
+    job->tile_level[0] = 0;
+    pp5_status_t st = PP5_OK;
+    for (int l = 0; l < m->levels; l++) {
+        int tx = (m->w[l] + BLEND_TILE - 1) / BLEND_TILE, ty = (m->h[l] + BLEND_TILE - 1) / BLEND_TILE;
+        uint8_t *active = calloc((size_t)tx * ty, 1);
+        if (!active)
+            return pp5_fail(PP5_E_NOMEM, "render: out of memory");
+        for (int j = 0; j < m->h[l]; j++)
+            for (int i = 0; i < m->w[l]; i++) {
+                size_t at = (size_t)j * m->w[l] + i;
+                if (m->need[l][at] && !m->cast[l][at])
+                    active[(j / BLEND_TILE) * tx + i / BLEND_TILE] = 1;
+            }
+        if (st == PP5_OK)
+            st = blend_bins_build(&job->r->bins[l], &job->blend, l, m->w[l], m->h[l], active);
+        free(active);
+        job->tile_level[l + 1] = job->tile_level[l] + tx * ty;
+    }
+    for (int l = m->levels + 1; l <= MIP2D_MAX_LEVELS; l++)
+        job->tile_level[l] = job->tile_level[m->levels];
+    return st;
 }
 
 static void job_reconstruct_row(void *ctx, int y, int thread)
@@ -358,9 +429,17 @@ static pp5_status_t frame_cast_texels(frame_job_t *job, int threads, pp5_status_
         job->row_level[l + 1] = job->row_level[l] + m->h[l];
     for (int l = m->levels + 1; l <= MIP2D_MAX_LEVELS; l++)
         job->row_level[l] = job->row_level[m->levels];
-    if (st == PP5_OK)
-        st = parallel_for(threads, job->row_level[m->levels], job_cast_row, job);
-    return st;
+    if (st != PP5_OK)
+        return st;
+    if (job->s->blend.mode != BLEND_COMPOSITE && blend_bricks_apply(&job->blend)) {
+        st = frame_bin_bricks(job);
+        if (st == PP5_OK)
+            st = parallel_for(threads, job->tile_level[m->levels], job_cast_tile, job);
+        for (int t = 0; st == PP5_OK && t < PARALLEL_MAX_THREADS; t++)
+            st = job->tile_status[t];
+        return st;
+    }
+    return parallel_for(threads, job->row_level[m->levels], job_cast_row, job);
 }
 
 /* The threads' ray and sample counters summed into the frame's statistics

@@ -23,6 +23,7 @@
 #include "octree.h"
 #include "png_io.h"
 #include "raycast.h"
+#include "blend_bricks.h"
 #include "scalar_pyramid.h"
 #include "shade.h"
 #include "volume.h"
@@ -84,6 +85,9 @@ typedef struct {
     gaze_model_t gaze;
     gaze_level_tables_t tables;   /* built for the image size when level_tables is set */
     gaze_display_t tables_display;   /* the display they were built for */
+    /* MIP and DEMIP in brick order: each 2D level's bins, rebuilt every
+     * frame in memory kept from the last (blend_bricks.h). */
+    blend_bins_t bins[MIP2D_MAX_LEVELS];
 } native_renderer_t;
 
 /* Builds the 3D mip map and octree (the per-volume preprocessing). */

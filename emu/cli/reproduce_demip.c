@@ -219,14 +219,12 @@ static double our_ratio(const panel_run_t runs[PANELS], ratio_t r, int m)
 static const char *ratio_cause(ratio_t r, bool above)
 {
     if (r == RATIO_DEMIP_MIP)
-        return above ? "where ray 1's records cannot tell (its threshold guess above m_max - eps, "
-                       "or over 32 records), ray 2 is traced: it skips what cannot stop it but "
-                       "walks from the entry, while ray 1 passes everything below its running "
-                       "maximum"
-                     : "our ray 2 is mostly not traced: its stop is the first of ray 1's "
-                       "running-maximum records to reach m_max - eps (the same sample, "
-                       "render/blend_trace_fast.c), so DEMIP adds little but eq. (1) and (2); "
-                       "the paper's shader walks ray 2 sample by sample";
+        return above ? "ray 1 visits bricks from the highest bound down and leaves a ray after "
+                       "the few that hold its maximum, while ray 2 must confirm that no brick "
+                       "in front of its stop reaches m_max - eps (render/blend_bricks.h)"
+                     : "ray 2 mostly ends in the first brick it tries (bricks front to back, "
+                       "render/blend_bricks.h), so DEMIP adds little but eq. (1) and (2); the "
+                       "paper's shader walks ray 2 sample by sample";
     if (r == RATIO_DVR_DEMIP)
         return above ? "our MIP and DEMIP rays pass every brick below their running maximum and "
                        "stop at saturated material, skipping that compositing cannot do"
