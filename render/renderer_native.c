@@ -214,7 +214,7 @@ static void job_cast_row(void *ctx, int item, int thread)
     size_t base = (size_t)j * m->w[l];
     /* Gather the row's uncast, needed texels and trace them in batches. */
     float px[RAYCAST_CHUNK], py[RAYCAST_CHUNK], rgb[RAYCAST_CHUNK][3];
-    float guess = 0.0f;           /* MIP/DEMIP threshold guess along the row */
+    float guess = 0.0f;           /* threshold guess along the row (ray-order MIP/DEMIP) */
     int idx[RAYCAST_CHUNK], n = 0;
     bool composite = job->s->blend.mode == BLEND_COMPOSITE;
     int cap = composite ? RAYCAST_CHUNK : RAYCAST_BATCH;

@@ -44,7 +44,7 @@ static void pyramid_build(const volume_t *v, pyramid_t *p)
 /* Every texel of one tile, brick order against the reference. */
 static void trace_tile(const blend_ctx_t *c, const blend_bins_t *b, int tile, brick_result_t *res)
 {
-    int ti[BLEND_TILE * BLEND_TILE], tj[BLEND_TILE * BLEND_TILE], n = 0;
+    int ti[BLEND_TILE * BLEND_TILE] = {0}, tj[BLEND_TILE * BLEND_TILE] = {0}, n = 0;
     int x0 = tile % b->tiles_x * BLEND_TILE, y0 = tile / b->tiles_x * BLEND_TILE;
     for (int j = y0; j < y0 + BLEND_TILE && j < b->tex_h; j++)
         for (int i = x0; i < x0 + BLEND_TILE && i < b->tex_w; i++) {
