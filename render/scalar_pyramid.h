@@ -60,7 +60,8 @@ typedef struct {
      * do not depend on the window, so one order serves every frame. */
     int brick_height;
     uint32_t *brick_order;
-    uint16_t (*brick_coord)[3];           /* per rank: the brick's node coordinates */
+    uint16_t (*brick_coord)[3];           /* per rank: the brick's node coordinates (a side
+                                           * has at most 2^(OCTREE_MAX_HEIGHT - 1) cells) */
     size_t brick_count;
 } scalar_level_t;
 
