@@ -48,9 +48,10 @@ static void texel_range(const texel_axis_t *t, blend_v4f lo, blend_v4f hi, float
     }
 }
 
-/* The brick of rank `rank` in level L's order (node height h): its cells, its position box
- * (the cells' q ranges [c, c + 1) mapped back by mip3d_level_coord, the
- * clamped edge cells reaching one voxel past the volume box) and material. */
+/* The brick of rank `rank` in level L's order (node height h): its cells,
+ * its position box (the cells' q ranges [c, c + 1) mapped back by
+ * mip3d_level_coord, the clamped edge cells reaching one voxel past the
+ * volume box) and material. */
 static void brick_describe(const blend_ctx_t *c, const scalar_level_t *L, int n, size_t rank,
                            blend_brick_t *b)
 {
@@ -129,7 +130,7 @@ static bool reserve(void **p, size_t *cap, size_t n, size_t size)
     return true;
 }
 
-/* Calls visit(tile) for every active tile the brick's footprint covers. */
+/* Runs body with `tile` set to every active tile the brick's footprint covers. */
 #define FOR_TILES(bins, br, active, tile, body)                                      \
     for (int ty = (br)->rect[1] / BLEND_TILE; ty <= (br)->rect[3] / BLEND_TILE; ty++) \
         for (int tx = (br)->rect[0] / BLEND_TILE; tx <= (br)->rect[2] / BLEND_TILE; tx++) { \
@@ -266,19 +267,12 @@ typedef struct {
     const blend_bins_t *b;
     fast_level_t lv;
     int x0, y0;                   /* the tile's first texel */
-    int slot[TILE_TEXELS];   /* texel -> ray, -1 none */
+    int slot[TILE_TEXELS];        /* texel -> ray, -1 none */
     tile_ray_t *ray;
     v4f inv_dv;                   /* lanes 0-2: the level's 1 / dv (0 where flat) */
     v4i free_axes;                /* lanes a ray's parameter is not bounded by */
     v4f minus_inf, plus_inf;
     int flat;                     /* bit a: dv[a] == 0 */
-    /* Pass 1's rays by texel of the tile (row-major, BLEND_TILE wide), so
-     * that eight neighbours of a row load as one vector: origin, t0, last
-     * position (-1: no ray), m_max (+inf: no ray), k_max, samples drawn. */
-    float ox[TILE_TEXELS], oy[TILE_TEXELS], oz[TILE_TEXELS], t0[TILE_TEXELS];
-    int last[TILE_TEXELS];
-    float m_max[TILE_TEXELS];
-    int k_max[TILE_TEXELS], drawn[TILE_TEXELS];
 } tile_t;
 
 /* The run of positions [*k0, *k1] of the ray that may lie in the brick:
@@ -334,22 +328,12 @@ static inline bool brick_position(const fast_level_t *lv, const tile_ray_t *r,
     return true;
 }
 
-/* scalar_trilerp at the position, its weights taken side by side. */
+/* The reference's sample at the position. */
 static inline float brick_draw(const fast_level_t *lv, const brick_pos_t *p)
 {
-    const scalar_level_t *L = lv->L;
-    v4i fl = p->fl;
-    if (fl[0] >= 0 && fl[1] >= 0 && fl[2] >= 0 && fl[0] < L->nx - 1 && fl[1] < L->ny - 1 &&
-        fl[2] < L->nz - 1) {
-        v4f w = p->q - __builtin_convertvector(fl, v4f);
-        size_t sy = (size_t)L->nx, sz = sy * (size_t)L->ny;
-        const float *v = L->value + (size_t)fl[2] * sz + (size_t)fl[1] * sy + (size_t)fl[0];
-        float c[8] = {v[0], v[1], v[sy], v[sy + 1], v[sz], v[sz + 1], v[sz + sy], v[sz + sy + 1]};
-        return blend_material(&lv->f->window, scalar_lerp8(c, w[0], w[1], w[2]));
-    }
     float q[3] = {p->q[0], p->q[1], p->q[2]};
-    int f[3] = {fl[0], fl[1], fl[2]};
-    return blend_material(&lv->f->window, scalar_trilerp(L, q, f));
+    int fl[3] = {p->fl[0], p->fl[1], p->fl[2]};
+    return blend_material(&lv->f->window, scalar_trilerp(lv->L, q, fl));
 }
 
 /* Ray 2 over one brick that may hold its stop: front to back up to the stop. */
@@ -374,7 +358,7 @@ static void ray2_brick(const tile_t *t, tile_ray_t *r, const blend_brick_t *b)
     }
 }
 
-/* Calls ray_fn for every ray of the tile inside the brick's footprint. */
+/* Runs body with r set to every ray of the tile inside the brick's footprint. */
 #define FOR_RAYS_IN(t, br, r, body)                                                 \
     for (int y_ = (br)->rect[1] > (t)->y0 ? (br)->rect[1] : (t)->y0;               \
          y_ <= (br)->rect[3] && y_ < (t)->y0 + BLEND_TILE; y_++)                    \
@@ -477,7 +461,7 @@ static float tile_deepest_stop(const tile_t *t, int count)
     return hi;
 }
 
-static pp5_status_t tile_pass_first(tile_t *t, int tile, int count)
+static pp5_status_t tile_pass_ray2(tile_t *t, int tile, int count)
 {
     const blend_bins_t *b = t->b;
     float lowest = INFINITY;
@@ -589,11 +573,11 @@ pp5_status_t blend_trace_tile(const blend_ctx_t *c, const blend_bins_t *b, int t
                               const int *ti, const int *tj, float (*rgb)[3],
                               raycast_counts_t *counts)
 {
-    PP5_ASSERT(count <= BLEND_TILE * BLEND_TILE, "too many texels for one tile");
+    PP5_ASSERT(count <= TILE_TEXELS, "too many texels for one tile");
     /* One tile's state per thread, reused: a fresh allocation of this size
      * per tile would be fresh pages every time. */
     static _Thread_local tile_t tile_state;
-    static _Thread_local tile_ray_t rays[BLEND_TILE * BLEND_TILE];
+    static _Thread_local tile_ray_t rays[TILE_TEXELS];
     tile_t *t = &tile_state;
     memset(t, 0, sizeof *t);
     t->c = c;
@@ -603,7 +587,7 @@ pp5_status_t blend_trace_tile(const blend_ctx_t *c, const blend_bins_t *b, int t
     if (tile_begin(t, tile, count, ti, tj)) {
         tile_pass_max(t, tile, count);
         if (c->frame.mode == BLEND_DEMIP)
-            st = tile_pass_first(t, tile, count);
+            st = tile_pass_ray2(t, tile, count);
     }
     for (int i = 0; st == PP5_OK && i < count; i++)
         tile_finish(t, i, rgb[i], counts);
