@@ -58,7 +58,8 @@ typedef struct {
 #define BLEND_BOX_SLACK 0.01f
 
 /* The bricks of one 2D level's 3D level binned to the level's tiles, in
- * brick order; bricks of material 0 are left out (they change no ray). */
+ * brick order; bricks of material 0 (they change no ray) and bricks whose
+ * footprint misses every active tile are left out. */
 typedef struct {
     int level2d, level3d;
     int tex_w, tex_h, tiles_x, tiles_y;
