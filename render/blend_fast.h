@@ -7,9 +7,8 @@
 #include <math.h>
 #include <stdbool.h>
 #include "blend_trace.h"
+#include "vec4.h"
 
-typedef float v4f __attribute__((vector_size(16)));
-typedef int v4i __attribute__((vector_size(16)));
 
 /* Which samples a ray may pass without drawing. */
 typedef enum {

@@ -178,7 +178,9 @@ pp5_status_t mip2d_init(mip2d_t *m, int width, int height, int levels)
         size_t n = (size_t)w * (size_t)h;
         m->w[l] = w;
         m->h[l] = h;
-        m->rgb[l] = calloc(n * 3, sizeof(float));
+        /* One float more than the texels: RenderPixel's fast path loads a
+         * texel's three channels as four (mip2d_row.c). */
+        m->rgb[l] = calloc(n * 3 + 1, sizeof(float));
         m->cast[l] = calloc(n, 1);
         m->need[l] = calloc(n, 1);
         if (!m->rgb[l] || !m->cast[l] || !m->need[l]) {

@@ -125,7 +125,7 @@ void gaze_level_row_tabled(const gaze_level_tables_t *t, int y, int width, doubl
 typedef struct {
     int levels, width, height;
     int w[MIP2D_MAX_LEVELS], h[MIP2D_MAX_LEVELS];
-    float *rgb[MIP2D_MAX_LEVELS];     /* 3 floats per texel */
+    float *rgb[MIP2D_MAX_LEVELS];     /* 3 floats per texel, and 1 spare at the end */
     uint8_t *cast[MIP2D_MAX_LEVELS];  /* 1 = ray cast, colour valid (the paper's F) */
     uint8_t *need[MIP2D_MAX_LEVELS];  /* scratch: wanted by this frame */
 } mip2d_t;

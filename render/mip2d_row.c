@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "renderer_native.h"
+#include "vec4.h"
 
 /* Distance used by the renderer: exactly the reference's expression. */
 static inline double level_radius(int x, double dy2, double gaze_x, double scale)
@@ -168,30 +169,81 @@ void mip2d_render_row_reference(const mip2d_t *m, int y, const float *levels, in
     }
 }
 
+/* to_u8_clamped on four lanes: the same clamps (v4f_max and v4f_min are
+ * its two comparisons, a NaN giving 0 as there), the same multiply and
+ * add, the same truncation. */
+static inline v4i to_u8_clamped4(v4f v)
+{
+    const v4f zero = {0.0f, 0.0f, 0.0f, 0.0f}, one = {1.0f, 1.0f, 1.0f, 1.0f};
+    v4f c = v4f_min(v4f_max(v, zero), one);
+    return __builtin_convertvector(c * 255.0f + 0.5f, v4i);
+}
+
 /* bilerp() of gaze2d.c for pixel x of a row whose texel row pointer, row
- * stride and vertical weight are known: the same expressions in the same
- * order (the build uses -std=c11, so no contraction into FMAs).  bilerp's
- * corner choice reduces to offsets: with u > 0 the right-hand corners are
- * the next texels (c11 is c01 + 1 whether or not v > 0), with u = 0 they
- * are the left-hand ones themselves. */
-static inline void bilerp_in_row(const float *row0, size_t stride3, int l, int x, float v,
-                                 const float *u_of_phase, float out[3])
+ * stride and vertical weight are known, the three channels in lanes 0-2
+ * (lane 3 reads the next float, which mip2d_init allocates, and is never
+ * used): per lane the same expressions in the same order.  bilerp's corner
+ * choice reduces to offsets: with u > 0 the right-hand corners are the next
+ * texels (c11 is c01 + 1 whether or not v > 0), with u = 0 they are the
+ * left-hand ones themselves. */
+static inline v4f bilerp_in_row(const float *row0, size_t stride3, int l, int x, float v,
+                                const float *u_of_phase)
 {
     int phase = x & ((1 << l) - 1);
     float u = u_of_phase[phase];                /* (x - (i << l)) / 2^l */
     const float *c00 = row0 + (size_t)(x >> l) * 3;
     const float *c01 = v > 0.0f ? c00 + stride3 : c00;
     size_t right = phase != 0 ? 3 : 0;
-    const float *c10 = c00 + right, *c11 = c01 + right;
-    float a0 = c00[0] + u * (c10[0] - c00[0]);
-    float a1 = c00[1] + u * (c10[1] - c00[1]);
-    float a2 = c00[2] + u * (c10[2] - c00[2]);
-    float b0 = c01[0] + u * (c11[0] - c01[0]);
-    float b1 = c01[1] + u * (c11[1] - c01[1]);
-    float b2 = c01[2] + u * (c11[2] - c01[2]);
-    out[0] = a0 + v * (b0 - a0);
-    out[1] = a1 + v * (b1 - a1);
-    out[2] = a2 + v * (b2 - a2);
+    v4f a = v4f_load(c00), b = v4f_load(c01);
+    v4f top = a + u * (v4f_load(c00 + right) - a);
+    v4f bottom = b + u * (v4f_load(c01 + right) - b);
+    return top + v * (bottom - top);
+}
+
+/* Level 0 at weight u = v = 0: bilerp returns c00 + 0 * 0 terms, i.e. the
+ * texel itself for any finite colour (a -0 texel becomes +0, the same
+ * byte); four channels at a time, the row's channels being contiguous. */
+static void render_level0_run(const float *src, int x0, int x1, uint8_t *rgb)
+{
+    size_t f = 3 * (size_t)x0, end = 3 * (size_t)x1;
+    for (; f + 4 <= end; f += 4) {
+        v4i c = to_u8_clamped4(v4f_load(src + f));
+        rgb[f + 0] = (uint8_t)c[0];
+        rgb[f + 1] = (uint8_t)c[1];
+        rgb[f + 2] = (uint8_t)c[2];
+        rgb[f + 3] = (uint8_t)c[3];
+    }
+    for (; f < end; f++)
+        rgb[f] = to_u8_clamped(src[f]);
+}
+
+/* One level, block by block: the 2^l pixels of a texel column share their
+ * corners, so they are loaded once; per pixel the reference's expressions
+ * with its u (phase 0 keeps u = 0 and right-hand corners equal to the
+ * left-hand ones). */
+static void render_level_run(const float *row0, size_t stride3, int l, float v,
+                             const float *u_of_phase, int x0, int x1, uint8_t *rgb)
+{
+    int mask = (1 << l) - 1;
+    size_t down = v > 0.0f ? stride3 : 0;
+    for (int x = x0; x < x1;) {
+        int i = x >> l;
+        int block_end = (i + 1) << l;
+        if (block_end > x1)
+            block_end = x1;
+        const float *c00 = row0 + (size_t)i * 3, *c01 = c00 + down;
+        v4f a = v4f_load(c00), b = v4f_load(c01);
+        /* Right-hand corners only exist (and are read) for phase > 0. */
+        bool has_right = (block_end - 1) & mask;
+        v4f ra = has_right ? v4f_load(c00 + 3) : a, rb = has_right ? v4f_load(c01 + 3) : b;
+        for (; x < block_end; x++) {
+            int phase = x & mask;
+            float u = u_of_phase[phase];
+            v4f e = phase ? ra : a, f = phase ? rb : b;
+            v4f p = a + u * (e - a), q = b + u * (f - b);
+            v4i_store_u8x3(rgb + 3 * (size_t)x, to_u8_clamped4(p + v * (q - p)));
+        }
+    }
 }
 
 void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, uint8_t *rgb)
@@ -226,68 +278,15 @@ void mip2d_render_row(const mip2d_t *m, int y, const float *levels, int width, u
         float t = level - (float)lo;
         bool blend = t > 0.0f && lo + 1 < m->levels;
         if (lo == 0 && !blend) {
-            /* Level 0 at weight u = v = 0: bilerp returns c00 + 0 * 0 terms,
-             * i.e. the texel itself for any finite colour (a -0 texel
-             * becomes +0, the same byte). */
-            const float *src = row0[0];
-            for (int x = x0; x < x1; x++) {
-                rgb[3 * x + 0] = to_u8_clamped(src[3 * x + 0]);
-                rgb[3 * x + 1] = to_u8_clamped(src[3 * x + 1]);
-                rgb[3 * x + 2] = to_u8_clamped(src[3 * x + 2]);
-            }
+            render_level0_run(row0[0], x0, x1, rgb);
         } else if (!blend) {
-            /* One level, block by block: the 2^lo pixels of a texel column
-             * share their corners, so they are loaded once; per pixel the
-             * reference's expressions with its u (phase 0 keeps u = 0 and
-             * right-hand corners equal to the left-hand ones). */
-            const float *r0 = row0[lo];
-            const float *ut = u_table[lo];
-            float v = vw[lo];
-            int mask = (1 << lo) - 1;
-            size_t down = v > 0.0f ? stride3[lo] : 0;
-            for (int x = x0; x < x1;) {
-                int i = x >> lo;
-                int block_end = (i + 1) << lo;
-                if (block_end > x1)
-                    block_end = x1;
-                const float *c00 = r0 + (size_t)i * 3, *c01 = c00 + down;
-                float a0 = c00[0], a1 = c00[1], a2 = c00[2];
-                float b0 = c01[0], b1 = c01[1], b2 = c01[2];
-                /* Right-hand corners only exist (and are read) for phase > 0. */
-                bool has_right = (block_end - 1) & mask;
-                float ra0 = has_right ? c00[3] : a0, ra1 = has_right ? c00[4] : a1;
-                float ra2 = has_right ? c00[5] : a2, rb0 = has_right ? c01[3] : b0;
-                float rb1 = has_right ? c01[4] : b1, rb2 = has_right ? c01[5] : b2;
-                for (; x < block_end; x++) {
-                    int phase = x & mask;
-                    float u = ut[phase];
-                    float e0 = phase ? ra0 : a0, e1 = phase ? ra1 : a1;
-                    float e2 = phase ? ra2 : a2, f0 = phase ? rb0 : b0;
-                    float f1 = phase ? rb1 : b1, f2 = phase ? rb2 : b2;
-                    float p0 = a0 + u * (e0 - a0), p1 = a1 + u * (e1 - a1);
-                    float p2 = a2 + u * (e2 - a2);
-                    float q0 = b0 + u * (f0 - b0), q1 = b1 + u * (f1 - b1);
-                    float q2 = b2 + u * (f2 - b2);
-                    rgb[3 * x + 0] = to_u8_clamped(p0 + v * (q0 - p0));
-                    rgb[3 * x + 1] = to_u8_clamped(p1 + v * (q1 - p1));
-                    rgb[3 * x + 2] = to_u8_clamped(p2 + v * (q2 - p2));
-                }
-            }
+            render_level_run(row0[lo], stride3[lo], lo, vw[lo], u_table[lo], x0, x1, rgb);
         } else {
             for (int x = x0; x < x1; x++) {
-                float c[3];
-                bilerp_in_row(row0[lo], stride3[lo], lo, x, vw[lo], u_table[lo], c);
-                if (blend) {
-                    float hi[3];
-                    bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1],
-                                  u_table[lo + 1], hi);
-                    c[0] += t * (hi[0] - c[0]);
-                    c[1] += t * (hi[1] - c[1]);
-                    c[2] += t * (hi[2] - c[2]);
-                }
-                rgb[3 * x + 0] = to_u8_clamped(c[0]);
-                rgb[3 * x + 1] = to_u8_clamped(c[1]);
-                rgb[3 * x + 2] = to_u8_clamped(c[2]);
+                v4f c = bilerp_in_row(row0[lo], stride3[lo], lo, x, vw[lo], u_table[lo]);
+                v4f hi = bilerp_in_row(row0[lo + 1], stride3[lo + 1], lo + 1, x, vw[lo + 1],
+                                       u_table[lo + 1]);
+                v4i_store_u8x3(rgb + 3 * (size_t)x, to_u8_clamped4(c + t * (hi - c)));
             }
         }
         x0 = x1;

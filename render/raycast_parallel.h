@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "raycast_internal.h"
+#include "vec4.h"
 
 /* Whether raycast_walk_avx2.c builds its AVX2 walk (GCC on x86-64, as the PP
  * kernels' copies; PP5_NO_CLONES disables both). */
@@ -20,10 +21,7 @@
 #define RAYCAST_HAVE_AVX2_WALK 0
 #endif
 
-/* Three axes side by side (lane 3 unused): each lane does exactly the
- * scalar operations (no fused multiply-add in ISO C mode). */
-typedef float v4f __attribute__((vector_size(16)));
-typedef int v4i __attribute__((vector_size(16)));
+/* The vectors (vec4.h) hold three axes side by side, lane 3 unused. */
 
 /* What all parallel rays of one 2D level share (the reference recomputes it
  * per ray, with the same expressions). */
