@@ -9,7 +9,10 @@
  * names one by one, and Teem passes the pattern to sprintf as a format.  Teem
  * also falls back to its plain-text, PNM and VTK readers on a file whose first
  * line is not a NRRD magic (and its text reader leaks memory when it fails).  All of these are
- * refused here with a message naming the limit or the file.
+ * refused here with a message naming the limit or the file.  So is a data
+ * file that does not exist: Teem's own message about a missing file in a
+ * LIST reads past the end of its line buffer for some name lengths (found
+ * by the fuzzer in Debian 12's libteem2 1.12.0~20160122).
  *
  * Grammar (NRRD0005 "data file"): "data file: NAME", "data file: LIST
  * [SUBDIM]" with one name per line to the end of the header file, or "data
@@ -32,6 +35,8 @@ typedef struct {
     struct stat self;        /* its identity, to catch a header naming itself */
     char dir[1024];          /* its folder, for relative data file names */
     size_t checked;          /* data files checked so far */
+    char missing[256];       /* the first data file that cannot be found, if any */
+    int missing_errno;
 } nrrd_precheck_t;
 
 /* Reads up to the PP5_MAX_HEADER_BYTES limit (+1 byte to tell "longer"). */
@@ -105,8 +110,15 @@ static pp5_status_t check_data_file(nrrd_precheck_t *c, const char *name)
         snprintf(full, sizeof full, "%.1024s/%.1100s", c->dir, name);
     c->checked++;
     struct stat sb;
-    if (stat(full, &sb) != 0)
-        return PP5_OK;    /* missing: Teem reports it with the name */
+    if (stat(full, &sb) != 0) {
+        /* Reported after every name is checked, so that a header naming
+         * itself is called that even when an earlier name is missing. */
+        if (!c->missing[0]) {
+            snprintf(c->missing, sizeof c->missing, "%.200s", name);
+            c->missing_errno = errno;
+        }
+        return PP5_OK;
+    }
     if (sb.st_dev == c->self.st_dev && sb.st_ino == c->self.st_ino)
         return pp5_fail(PP5_E_FORMAT, "%s: data file '%s' is the header itself (a header "
                         "cannot be its own detached data)", c->path, name);
@@ -223,6 +235,9 @@ pp5_status_t volume_nrrd_precheck(const char *path)
         text[hlen] = '\0';    /* a LIST of names ends with the header */
         st = check_data_files(&c, text, hlen);
     }
+    if (st == PP5_OK && c.missing[0])
+        st = pp5_fail(PP5_E_IO, "%s: data file '%s': %s", path, c.missing,
+                      strerror(c.missing_errno));
     free(text);
     return st;
 }

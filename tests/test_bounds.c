@@ -139,6 +139,44 @@ TEST(bounds_nrrd_data_file_naming_the_header_itself_is_refused)
     CHECK(strstr(pp5_error_text(), "is the header itself") != NULL);
 }
 
+/* Teem's message about a missing file of a LIST reads past its line buffer
+ * when the name is 16 to 39 characters long (the fuzzer's find): pp5 names
+ * the file itself, for every way a header can name one. */
+TEST(bounds_nrrd_missing_data_file_is_named)
+{
+    char path[1200], data[1200];
+    snprintf(path, sizeof path, "%s/missing.nhdr", pp5_test_outdir());
+    snprintf(data, sizeof data, "%s/present.raw", pp5_test_outdir());
+    write_text(data, "1234");   /* one 2x2 slice: a LIST names one file per slice */
+    const char *head = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n";
+    const char *tails[] = {
+        "data file: LIST\npresent.raw\nno-such-file-of-24-chars\n",
+        "data file: LIST\nno-such-file-of-24-chars\n",
+        "data file: no-such-file-of-24-chars\n",
+        "data file: no-such-%d.raw 1 2 1\n",
+    };
+    const char *names[] = {"no-such-file-of-24-chars", "no-such-file-of-24-chars",
+                           "no-such-file-of-24-chars", "no-such-1.raw"};
+    for (int i = 0; i < 4; i++) {
+        char text[512];
+        snprintf(text, sizeof text, "%s%s", head, tails[i]);
+        write_text(path, text);
+        volume_t v;
+        CHECK_EQ(volume_load(path, NULL, &v), PP5_E_IO);
+        CHECK_MSG(strstr(pp5_error_text(), names[i]) && strstr(pp5_error_text(), "missing.nhdr"),
+                  "%s", pp5_error_text());
+    }
+    /* the same header with the files present loads */
+    char text[512];
+    snprintf(text, sizeof text, "%sdata file: LIST\npresent.raw\npresent.raw\n", head);
+    write_text(path, text);
+    volume_t v;
+    pp5_status_t st = volume_load(path, NULL, &v);
+    CHECK_MSG(st == PP5_OK, "%s", pp5_error_text());
+    if (st == PP5_OK)
+        volume_free(&v);
+}
+
 TEST(bounds_nrrd_data_file_that_is_another_header_is_refused)
 {
     const char *dir = pp5_test_outdir();
