@@ -9,7 +9,6 @@
 #include "blend_trace.h"
 #include "vec4.h"
 
-
 /* Which samples a ray may pass without drawing. */
 typedef enum {
     SKIP_RAY1,                /* material(bound) <= m_max (mip_ray_can_skip) */

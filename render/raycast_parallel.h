@@ -21,10 +21,9 @@
 #define RAYCAST_HAVE_AVX2_WALK 0
 #endif
 
-/* The vectors (vec4.h) hold three axes side by side, lane 3 unused. */
-
 /* What all parallel rays of one 2D level share (the reference recomputes it
- * per ray, with the same expressions). */
+ * per ray, with the same expressions).  Its vectors (vec4.h) hold the three
+ * axes side by side, lane 3 unused. */
 typedef struct {
     const octree_grid_t *g;
     const octree_grid_t *blend;   /* level n's blend grid: the exact grid dilated by 2 */
