@@ -202,7 +202,8 @@ static inline v4f bilerp_in_row(const float *row0, size_t stride3, int l, int x,
 
 /* Level 0 at weight u = v = 0: bilerp returns c00 + 0 * 0 terms, i.e. the
  * texel itself for any finite colour (a -0 texel becomes +0, the same
- * byte); four channels at a time, the row's channels being contiguous. */
+ * byte); four floats at a time (they span pixels: a row's channels are
+ * contiguous). */
 static void render_level0_run(const float *src, int x0, int x1, uint8_t *rgb)
 {
     size_t f = 3 * (size_t)x0, end = 3 * (size_t)x1;
