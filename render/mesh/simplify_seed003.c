@@ -101,9 +101,9 @@ static double boundary_turn(const sw_t *w, int v)
     return angle_between(u, t);
 }
 
-/* The face normals around a vertex and, for a fan of at most
- * NORMALS_CACHED faces, the cosines between every two (cos_between's
- * doubles, which do not depend on the order of the pair). */
+/* The face normals around a vertex, their squared lengths and, for a fan
+ * of at most NORMALS_CACHED faces, the cosines between every two
+ * (cos_between's doubles, which do not depend on the order of the pair). */
 #define NORMALS_CACHED 24
 typedef struct {
     int n;
@@ -116,7 +116,9 @@ static double normals_cos(const vertex_normals_t *vn, int i, int j)
     return vn->n <= NORMALS_CACHED ? vn->cosines[i][j] : cos_between(vn->nr[i], vn->nr[j]);
 }
 
-/* Faces in index order; their normals are sw_init's (no merge yet). */
+/* Faces in index order; their normals are sw_init's (no merge yet).  Each
+ * normal's squared length is taken once: cos_between's product of the two
+ * is the same double. */
 static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
 {
     int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
@@ -133,38 +135,60 @@ static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
         vn->nr[i] = w->fnormal + 3 * faces[i];
     if (n > NORMALS_CACHED)
         return;
+    double len2[NORMALS_CACHED];
     for (int i = 0; i < n; i++)
-        for (int j = i; j < n; j++)
-            vn->cosines[i][j] = vn->cosines[j][i] = cos_between(vn->nr[i], vn->nr[j]);
+        len2[i] = sw_dot(vn->nr[i], vn->nr[i]);
+    for (int i = 0; i < n; i++) {
+        vn->cosines[i][i] = cos_between(vn->nr[i], vn->nr[i]);
+        for (int j = i + 1; j < n; j++) {
+            double l = sqrt(len2[i] * len2[j]), c = 1.0;
+            if (l > 0) {
+                c = sw_dot(vn->nr[i], vn->nr[j]) / l;
+                c = c > 1 ? 1 : c < -1 ? -1 : c;
+            }
+            vn->cosines[i][j] = vn->cosines[j][i] = c;
+        }
+    }
 }
 
-/* §2.1: A1 = the widest pair of face normals; the others join the nearer of
- * the two; A2 = the wider of the two groups' cones.  Faces are taken in
- * index order (the first widest pair wins a tie). */
-static void classify_vertex(s003_t *s, int v)
+/* A1 (§2.1), the widest angle between two of the normals, and the first
+ * pair in index order that spans it (0, 0 if every angle is 0).  acos falls
+ * monotonically (glibc's is correctly rounded), so the widest angle is that
+ * of the smallest cosine; another pair spans the same double only if its
+ * cosine is within 1e-12 of it (|d acos / dc| >= 1), and only there is acos
+ * taken again.  The same pair as comparing every pair's angle in order. */
+static double widest_pair(const vertex_normals_t *vn, int *bi, int *bj)
 {
-    const sw_t *w = s->w;
-    vertex_normals_t vn;
-    gather_normals(w, v, &vn);
-    int n = vn.n;
-    /* acos falls monotonically (glibc's is correctly rounded), so angles
-     * compare through their cosines; acos is taken only where a cosine could
-     * tie (the same angles, and the same first widest pair, as comparing
-     * every angle) */
-    double a1 = 0, c1 = 1.0;
-    int bi = 0, bj = 0;
+    int n = vn->n;
+    double cmin = 1.0;
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++) {
-            double c = normals_cos(&vn, i, j);
-            if (c > c1)
-                continue;   /* acos(c) <= a1: not wider */
-            double t = acos(c);
-            if (t > a1)
-                a1 = t, c1 = c, bi = i, bj = j;
+            double c = normals_cos(vn, i, j);
+            if (c < cmin)   /* a NaN cosine (overflowed normals) spans nothing */
+                cmin = c;
         }
-    int group[SW_MAX_FAN];
+    double a1 = acos(cmin);
+    *bi = *bj = 0;
+    if (!(a1 > 0))
+        return 0;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) {
+            double c = normals_cos(vn, i, j);
+            if (c == cmin || (c - cmin <= 1e-12 && acos(c) == a1)) {
+                *bi = i, *bj = j;
+                return a1;
+            }
+        }
+    return a1;
+}
+
+/* A2 (§2.1): the others join the nearer of the widest pair's normals, and
+ * A2 is the wider of the two groups' cones. */
+static double group_cone(const vertex_normals_t *vn, int bi, int bj)
+{
+    int n = vn->n, group[SW_MAX_FAN];
     for (int i = 0; i < n; i++) {
-        double cj = normals_cos(&vn, i, bj), ci = normals_cos(&vn, i, bi);
+        double cj = normals_cos(vn, i, bj), ci = normals_cos(vn, i, bi);
         /* |d acos / dc| >= 1: cosines this far apart order their angles */
         group[i] = cj - ci > 1e-12 ? 1 : ci - cj > 1e-12 ? 0 : acos(cj) < acos(ci);
     }
@@ -172,10 +196,23 @@ static void classify_vertex(s003_t *s, int v)
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++)
             if (group[i] == group[j])
-                c2 = sw_min(c2, normals_cos(&vn, i, j));
-    double a2 = acos(c2);
+                c2 = sw_min(c2, normals_cos(vn, i, j));
+    return acos(c2);
+}
+
+/* §2.1: ordinary (A1 below the crease angle), crease or corner (A2 above
+ * the corner angle).  Faces are taken in index order (the first widest
+ * pair wins a tie).  A2 matters only past the crease angle, so a smooth
+ * vertex, most of any scan, never groups its normals. */
+static void classify_vertex(s003_t *s, int v)
+{
+    const sw_t *w = s->w;
+    vertex_normals_t vn;
+    gather_normals(w, v, &vn);
+    int bi, bj;
+    double a1 = widest_pair(&vn, &bi, &bj);
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
-    int imp = a1 < crease ? 0 : a2 > corner ? 2 : 1;
+    int imp = a1 < crease ? 0 : group_cone(&vn, bi, bj) > corner ? 2 : 1;
     s->corner[v] = imp == 2;
     if (imp < 2 && sw_vertex_on_boundary(w, v)) {
         imp++;
