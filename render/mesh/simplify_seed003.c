@@ -39,6 +39,11 @@ typedef struct {
     bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
     double *dcost;
     uint64_t *dtie;
+    /* per corner queued under a lower bound: its edge's other corner (-1
+     * on a boundary), as it was then.  Still the twin at the thaw: the face
+     * across an edge changes only in a merge with an end of the edge in its
+     * update set, which re-costs the edge and records the twin again. */
+    int32_t *dtwin;
     /* per corner c, kept for the faces alive: the length of its edge
      * (tri[c] -> nextv[c]) and its face's roundness for that edge, so a
      * re-costed edge reads S and L instead of measuring them */
@@ -401,6 +406,7 @@ static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
     if (!now && s->lazy) {
         queue_put(s, id, lower_bound(s, id, twin), sw_edge_tie(a, b));
         s->dirty[id] = 1;
+        s->dtwin[id] = twin;
         return;
     }
     double F;
@@ -426,6 +432,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     }
     if (s003_frozen(s, a, b)) {
         queue_drop(s, id);
+        s->dtwin[id] = twin;
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
     s003_cost(s, id, twin, a, b, false);
@@ -525,7 +532,7 @@ static void s003_thaw(s003_t *s)
             queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
-            s003_cost(s, id, sw_find_corner(w, b, a), a < b ? a : b, a < b ? b : a, false);
+            s003_cost(s, id, s->dtwin[id], a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
@@ -635,12 +642,13 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     s->dirty = calloc(nc, 1);
     s->dcost = malloc(sizeof *s->dcost * nc);
     s->dtie = malloc(sizeof *s->dtie * nc);
+    s->dtwin = malloc(sizeof *s->dtwin * nc);
     s->elen = malloc(sizeof *s->elen * nc);
     s->eround = malloc(sizeof *s->eround * nc);
     s->newp = malloc(sizeof *s->newp * 3 * nc);
     pp5_status_t st = PP5_OK;
     if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dirty ||
-        !s->dcost || !s->dtie || !s->elen || !s->eround || !s->newp)
+        !s->dcost || !s->dtie || !s->dtwin || !s->elen || !s->eround || !s->newp)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
@@ -654,7 +662,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (st == PP5_OK)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
-    free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dlist);
+    free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dtwin), free(s->dlist);
     free(s->elen), free(s->eround), free(s->newp);
     free(s);
     return st;
