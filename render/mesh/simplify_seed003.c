@@ -404,7 +404,14 @@ static void s003_forget(s003_t *s, int id)
 static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
 {
     if (!now && s->lazy) {
-        queue_put(s, id, lower_bound(s, id, twin), sw_edge_tie(a, b));
+        double lb = lower_bound(s, id, twin);
+        uint64_t tie = sw_edge_tie(a, b);
+        const sw_queue_t *q = &s->w->queue;
+        /* A key already queued at or below the bound (with the same tie) is
+         * still a lower bound of F: left in place, the edge only reaches
+         * the top sooner to be costed, and deletions keep their order. */
+        if (s->bulk || !sw_queue_has(q, id) || q->tie[id] != tie || !(sw_queue_cost(q, id) <= lb))
+            queue_put(s, id, lb, tie);
         s->dirty[id] = 1;
         s->dtwin[id] = twin;
         return;

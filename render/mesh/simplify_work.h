@@ -76,6 +76,11 @@ static inline bool sw_queue_has(const sw_queue_t *q, int id)
 {
     return q->where[id] >= 0;
 }
+/* The cost id is queued under (the queue must hold it). */
+static inline double sw_queue_cost(const sw_queue_t *q, int id)
+{
+    return q->e[q->where[id]].cost;
+}
 static inline uint64_t sw_edge_tie(int a, int b)
 {
     return a < b ? (uint64_t)a << 32 | (uint32_t)b : (uint64_t)b << 32 | (uint32_t)a;
