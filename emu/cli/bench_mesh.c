@@ -25,6 +25,7 @@ typedef struct {
     const char *name;
     int target, faces;
     double cpu_ms, wall_ms;      /* minimum over the runs */
+    double ratio_qem;            /* median over the rounds of CPU / our QEM's CPU (ours only) */
     double h_ours, h_bound;      /* % of the diagonal; the true maximum is within +h_bound */
     double h_cgal;               /* CGAL's bounded estimate, % (NAN: not run) */
     char path[1100];             /* the result as OFF, for CGAL (peers only) */
@@ -57,28 +58,41 @@ static void our_hausdorff(const mesh_t *in, const mesh_t *out, bench_row_t *row)
     }
 }
 
-/* One of ours: the minimum over `reps` runs; the result stays in *out. */
-static int run_ours(const mesh_t *in, mesh_method_t method, int reps, bench_row_t *row,
-                    mesh_t *out)
+#define BENCH_MAX_ROUNDS 16
+
+/* One run of one of ours, folded into its row's minima; the result stays
+ * in *out. */
+static int run_ours(const mesh_t *in, mesh_method_t method, bench_row_t *row, mesh_t *out,
+                    double *cpu_ms)
 {
     mesh_simplify_opts_t so;
     mesh_simplify_defaults(&so, method);
     so.target_faces = row->target;
     row->name = mesh_method_name(method);
-    row->cpu_ms = row->wall_ms = INFINITY;
-    memset(out, 0, sizeof *out);
-    for (int rep = 0; rep < reps; rep++) {
-        mesh_simplify_stats_t st;
-        mesh_free(out);
-        if (mesh_simplify(in, &so, out, NULL, &st) != PP5_OK) {
-            printf("   %s: %s\n", row->name, pp5_error_text());
-            return 1;
-        }
-        row->cpu_ms = fmin(row->cpu_ms, st.cpu_ms);
-        row->wall_ms = fmin(row->wall_ms, st.ms);
+    mesh_simplify_stats_t st;
+    mesh_free(out);
+    if (mesh_simplify(in, &so, out, NULL, &st) != PP5_OK) {
+        printf("   %s: %s\n", row->name, pp5_error_text());
+        return 1;
     }
+    row->cpu_ms = fmin(row->cpu_ms, st.cpu_ms);
+    row->wall_ms = fmin(row->wall_ms, st.ms);
     row->faces = out->n_faces;
+    *cpu_ms = st.cpu_ms;
     return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The median of a[0 .. n-1] (sorted in place). */
+static double median(double *a, int n)
+{
+    qsort(a, (size_t)n, sizeof *a, cmp_double);
+    return n % 2 ? a[n / 2] : 0.5 * (a[n / 2 - 1] + a[n / 2]);
 }
 
 /* Reads "KEY MIN MEDIAN" / "KEY VALUE" lines of a peer's output. */
@@ -117,7 +131,7 @@ static void print_row(const bench_row_t *r, const bench_row_t *qem, const bench_
     else
         printf("%9.5f %+9.5f", r->h_cgal, r->h_ours - r->h_cgal);
     if (r != qem && (strcmp(r->name, "seed001") == 0 || strcmp(r->name, "seed003") == 0))
-        printf("   %.2fx our QEM (goal <= 3x)", r->cpu_ms / qem->cpu_ms);
+        printf("   %.2fx our QEM (goal <= 3x)", r->ratio_qem);
     if (r == qem && mo && mo->cpu_ms > 0)
         printf("   %.2fx meshoptimizer (goal <= 1.5x)", r->cpu_ms / mo->cpu_ms);
     printf("\n");
@@ -195,33 +209,57 @@ static void cgal_hausdorff(const mesh_peers_t *pe, bench_row_t *row)
         row->h_cgal = NAN;
 }
 
+/* Ours in `reps` rounds, each running QEM, seed 001 and seed 003 once in
+ * turn, so that a drift of the shared host's speed falls on all three
+ * alike: each ratio to QEM is the median of the rounds' ratios.  Their
+ * results are measured and (with peers) written for CGAL.  Returns the
+ * rows filled (0: a method failed). */
+static int bench_ours(const mesh_t *in, double ratio, int reps, const mesh_peers_t *pe,
+                      bench_row_t *rows)
+{
+    static const mesh_method_t methods[3] = {MESH_QEM, MESH_SEED001, MESH_SEED003};
+    mesh_t out[3];
+    double cpu[3][BENCH_MAX_ROUNDS];
+    memset(out, 0, sizeof out);
+    for (int k = 0; k < 3; k++) {
+        rows[k] = (bench_row_t){0};
+        rows[k].target = (int)(ratio * in->n_faces + 0.5);
+        rows[k].cpu_ms = rows[k].wall_ms = INFINITY;
+        rows[k].h_cgal = NAN;
+    }
+    int ok = 1;
+    for (int rep = 0; rep < reps && ok; rep++) {
+        char what[96];
+        snprintf(what, sizeof what, "ours to %.0f %%, round %d of %d", 100 * ratio, rep + 1, reps);
+        progress(what);
+        for (int k = 0; k < 3 && ok; k++)
+            ok = run_ours(in, methods[k], &rows[k], &out[k], &cpu[k][rep]) == 0;
+    }
+    for (int k = 0; k < 3 && ok; k++) {
+        double r[BENCH_MAX_ROUNDS];
+        for (int rep = 0; rep < reps; rep++)
+            r[rep] = cpu[k][rep] / cpu[0][rep];
+        rows[k].ratio_qem = median(r, reps);
+        our_hausdorff(in, &out[k], &rows[k]);
+        if (pe) {
+            snprintf(rows[k].path, sizeof rows[k].path, "%s/%s_%d.off", pe->dir, rows[k].name,
+                     rows[k].target);
+            if (mesh_save(rows[k].path, &out[k]) != PP5_OK)
+                rows[k].path[0] = 0;
+        }
+    }
+    for (int k = 0; k < 3; k++)
+        mesh_free(&out[k]);
+    return ok ? 3 : 0;
+}
+
 /* One ratio: ours (and the peers), then CGAL's Hausdorff of every result. */
 static void bench_ratio(const mesh_t *in, double ratio, int reps, const mesh_peers_t *pe)
 {
     bench_row_t rows[5];
-    int n = 0;
-    static const mesh_method_t methods[3] = {MESH_QEM, MESH_SEED001, MESH_SEED003};
-    for (int k = 0; k < 3; k++) {
-        bench_row_t *r = &rows[n];
-        memset(r, 0, sizeof *r);
-        r->target = (int)(ratio * in->n_faces + 0.5);
-        r->h_cgal = NAN;
-        mesh_t out;
-        char what[96];
-        snprintf(what, sizeof what, "%s to %.0f %%", mesh_method_name(methods[k]), 100 * ratio);
-        progress(what);
-        if (run_ours(in, methods[k], methods[k] == MESH_SEED003 ? (reps + 1) / 2 : reps, r,
-                     &out) != 0)
-            return;
-        our_hausdorff(in, &out, r);
-        if (pe) {
-            snprintf(r->path, sizeof r->path, "%s/%s_%d.off", pe->dir, r->name, r->target);
-            if (mesh_save(r->path, &out) != PP5_OK)
-                r->path[0] = 0;
-        }
-        mesh_free(&out);
-        n++;
-    }
+    int n = bench_ours(in, ratio, reps, pe, rows);
+    if (n == 0)
+        return;
     const bench_row_t *mo = NULL, *gh = NULL;
     for (int k = 0; pe && k < 2; k++) {
         if (!(k == 0 ? pe->meshopt : pe->cgal))
@@ -293,11 +331,12 @@ static int bench_mesh(const pp5_bench_opts_t *o)
         if (mesh_gen_torus(200, 100, 1.0, 0.3, &in) != PP5_OK)
             return 1;
     }
-    int reps = o->quick ? 1 : 3, dropped = 0;
+    int reps = o->quick ? 1 : 5, dropped = 0;
     mesh_drop_unused(&in, &dropped);   /* the peers read an OFF without unused vertices */
-    printf("   %s: %d faces, %d vertices (%d unused dropped); one thread; minimum of %d run(s) "
-           "(seed 003: %d) on a shared host; CPU = thread CPU time, the ratios use it\n",
-           in.source, in.n_faces, in.n_vertices, dropped, reps, (reps + 1) / 2);
+    printf("   %s: %d faces, %d vertices (%d unused dropped); one thread; CPU = thread CPU "
+           "time; ms: the minimum of %d run(s) on a shared host; ours run in %d rounds of the "
+           "three in turn, and each ratio to our QEM is the median of the rounds' ratios\n",
+           in.source, in.n_faces, in.n_vertices, dropped, reps, reps);
     printf("   Hausdorff: symmetric, %% of the input's bounding-box diagonal, both maxima "
            "bounded to %g x the diagonal (ours prints the bound it reached)\n", BENCH_BOUND);
     mesh_peers_t pe;
