@@ -22,6 +22,25 @@ static const double PI = 3.14159265358979323846;
 /* Queue ids (edge corners) set aside while frozen (§2.3). */
 enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
 
+/* What re-costing an edge reads and writes of its corner c (the edge
+ * tri[c] -> nextv[c]), side by side: 24 bytes on one cache line (or two),
+ * not a line in each of five arrays:
+ * - len, round: for the faces alive, the edge's length and its face's
+ *   roundness for it, so a re-costed edge reads S and L instead of
+ *   measuring them;
+ * - dirty: queued under a lower bound, not yet costed;
+ * - dstate: frozen (§2.3) and set aside;
+ * - twin: for an edge queued under a lower bound or set aside dirty, its
+ *   other corner (-1 on a boundary) as it was then.  Still the twin at the
+ *   thaw: the face across an edge changes only in a merge with an end of
+ *   the edge in its update set, which re-costs the edge and records the
+ *   twin again. */
+typedef struct {
+    double len, round;
+    int32_t twin;
+    uint8_t dirty, dstate;
+} s003_corner_t;
+
 typedef struct {
     sw_t *w;
     const mesh_simplify_opts_t *o;
@@ -31,23 +50,13 @@ typedef struct {
     uint32_t *mark, mark_epoch;   /* vertices in the current update set */
     double mean_edge;
     int phase;
-    /* frozen edges: popped ones keep their key; re-costed ones are
-     * evaluated once, when they thaw (nothing they depend on can change
-     * before then without re-costing them again) */
-    uint8_t *dstate;
-    uint8_t *dirty;               /* queued under a lower bound, not yet costed */
     bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
+    s003_corner_t *hot;           /* per corner */
+    /* frozen edges: popped ones keep their key (per corner); re-costed ones
+     * are evaluated once, when they thaw (nothing they depend on can change
+     * before then without re-costing them again) */
     double *dcost;
     uint64_t *dtie;
-    /* per corner queued under a lower bound: its edge's other corner (-1
-     * on a boundary), as it was then.  Still the twin at the thaw: the face
-     * across an edge changes only in a merge with an end of the edge in its
-     * update set, which re-costs the edge and records the twin again. */
-    int32_t *dtwin;
-    /* per corner c, kept for the faces alive: the length of its edge
-     * (tri[c] -> nextv[c]) and its face's roundness for that edge, so a
-     * re-costed edge reads S and L instead of measuring them */
-    double *elen, *eround;
     double *newp;                 /* per queued edge with its cost: the point it was costed at */
     bool bulk;                    /* filling an empty queue: append now, heapify after */
     int32_t *dlist;
@@ -252,10 +261,10 @@ static void measure_face(s003_t *s, int f)
 {
     const sw_t *w = s->w;
     for (int c = 3 * f; c < 3 * f + 3; c++)
-        s->elen[c] = dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
+        s->hot[c].len = dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
     for (int c = 3 * f; c < 3 * f + 3; c++) {
-        double lmax = max_num(s->elen[sw_prev(c)], s->elen[sw_next(c)]);
-        s->eround[c] = lmax > 0 ? s->elen[c] / lmax : 0;
+        double lmax = max_num(s->hot[sw_prev(c)].len, s->hot[sw_next(c)].len);
+        s->hot[c].round = lmax > 0 ? s->hot[c].len / lmax : 0;
     }
 }
 
@@ -267,11 +276,11 @@ static void measure_face(s003_t *s, int f)
  * of deletions is the same as costing at once. */
 static double lower_bound(const s003_t *s, int id, int twin)
 {
-    double smax = max_num(0, s->eround[id]);
+    double smax = max_num(0, s->hot[id].round);
     if (twin >= 0)
-        smax = max_num(smax, s->eround[twin]);
+        smax = max_num(smax, s->hot[twin].round);
     int ph = s->phase;
-    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * s->elen[id] / s->mean_edge;
+    return s->o->s003_cs[ph] * smax + s->o->s003_cl[ph] * s->hot[id].len / s->mean_edge;
 }
 
 /* The cosine of the turn of the face of corner c when c's vertex moves to
@@ -311,7 +320,7 @@ static bool control_function(s003_t *s, int id, int a, int b, const double p[3],
             if (w->nextv[c] == y || w->prevv[c] == y) {
                 /* a face of the edge (seen from a): S from its roundness */
                 if (k == 0)
-                    smax = max_num(smax, s->eround[w->nextv[c] == y ? c : sw_prev(c)]);
+                    smax = max_num(smax, s->hot[w->nextv[c] == y ? c : sw_prev(c)].round);
                 continue;
             }
             if (!face_turn(w, c, p, &cs))
@@ -322,7 +331,7 @@ static bool control_function(s003_t *s, int id, int a, int b, const double p[3],
     double dmax = acos(cmin) / PI;
     int ph = s->phase;
     *F = s->o->s003_cd[ph] * dmax + s->o->s003_cs[ph] * smax +
-         s->o->s003_cl[ph] * s->elen[id] / s->mean_edge;
+         s->o->s003_cl[ph] * s->hot[id].len / s->mean_edge;
     return true;
 }
 
@@ -361,7 +370,7 @@ static bool s003_frozen(const s003_t *s, int a, int b)
 
 static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
 {
-    if (s->dstate[id] == S003_LIVE) {
+    if (s->hot[id].dstate == S003_LIVE) {
         if (s->dn == s->dcap) {
             int cap = s->dcap ? 2 * s->dcap : 4096;
             int32_t *nl = realloc(s->dlist, sizeof *nl * (size_t)cap);
@@ -371,7 +380,7 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
         }
         s->dlist[s->dn++] = id;
     }
-    s->dstate[id] = state;
+    s->hot[id].dstate = state;
     return PP5_OK;
 }
 
@@ -395,8 +404,8 @@ static void queue_drop(s003_t *s, int id)
 static void s003_forget(s003_t *s, int id)
 {
     queue_drop(s, id);
-    s->dstate[id] = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
-    s->dirty[id] = 0;
+    s->hot[id].dstate = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
+    s->hot[id].dirty = 0;
 }
 
 /* Queues live edge id (a < b; twin: its other corner, or -1) under its
@@ -412,12 +421,12 @@ static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
          * the top sooner to be costed, and deletions keep their order. */
         if (s->bulk || !sw_queue_has(q, id) || q->tie[id] != tie || !(sw_queue_cost(q, id) <= lb))
             queue_put(s, id, lb, tie);
-        s->dirty[id] = 1;
-        s->dtwin[id] = twin;
+        s->hot[id].dirty = 1;
+        s->hot[id].twin = twin;
         return;
     }
     double F;
-    s->dirty[id] = 0;
+    s->hot[id].dirty = 0;
     if (s003_evaluate(s, id, a, b, s->newp + 3 * (size_t)id, &F))
         queue_put(s, id, F, sw_edge_tie(a, b));
     else
@@ -439,7 +448,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     }
     if (s003_frozen(s, a, b)) {
         queue_drop(s, id);
-        s->dtwin[id] = twin;
+        s->hot[id].twin = twin;
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
     s003_cost(s, id, twin, a, b, false);
@@ -533,13 +542,13 @@ static void s003_thaw(s003_t *s)
     w->stats->unfreezes++;
     for (int i = 0; i < s->dn; i++) {
         int id = s->dlist[i];
-        uint8_t state = s->dstate[id];
-        s->dstate[id] = S003_LIVE;
+        uint8_t state = s->hot[id].dstate;
+        s->hot[id].dstate = S003_LIVE;
         if (state == S003_DEFERRED) {
             queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
-            s003_cost(s, id, s->dtwin[id], a < b ? a : b, a < b ? b : a, false);
+            s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
@@ -556,7 +565,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
     while (w->queue.n > 0)
         sw_queue_remove(&w->queue, w->queue.e[w->queue.n - 1].id);
     for (int i = 0; i < s->dn; i++)
-        s->dstate[s->dlist[i]] = S003_LIVE;
+        s->hot[s->dlist[i]].dstate = S003_LIVE;
     s->dn = 0;
     s->epoch++;
     return queue_all_edges(s);
@@ -577,9 +586,9 @@ static pp5_status_t s003_take_top(s003_t *s)
     if (s003_frozen(s, a, b)) {
         sw_queue_remove(&w->queue, e.id);
         s->dcost[e.id] = e.cost, s->dtie[e.id] = e.tie;
-        return s003_defer(s, e.id, s->dirty[e.id] ? S003_DEFERRED_DIRTY : S003_DEFERRED);
+        return s003_defer(s, e.id, s->hot[e.id].dirty ? S003_DEFERRED_DIRTY : S003_DEFERRED);
     }
-    if (s->dirty[e.id]) {   /* moves down to its cost, or leaves */
+    if (s->hot[e.id].dirty) {   /* moves down to its cost, or leaves */
         s003_cost(s, e.id, -1, a, b, true);
         return PP5_OK;
     }
@@ -592,7 +601,7 @@ static pp5_status_t s003_take_top(s003_t *s)
     pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
     for (int r = 0; r < m.n_removed; r++)
         for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
-            s->dstate[c] = S003_LIVE, s->dirty[c] = 0;
+            s->hot[c].dstate = S003_LIVE, s->hot[c].dirty = 0;
     return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
 }
 
@@ -627,7 +636,7 @@ static double measure_all(s003_t *s)
     for (int f = 0; f < w->nf; f++)
         measure_face(s, f);
     for (int c = 0; c < 3 * w->nf; c++) {
-        total += s->elen[c];
+        total += s->hot[c].len;
         edges++;
     }
     return edges && total > 0 ? total / (double)edges : 1.0;
@@ -645,17 +654,13 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     s->corner = calloc(nv, 1);
     s->frozen = calloc(nv, sizeof *s->frozen);
     s->mark = calloc(nv, sizeof *s->mark);
-    s->dstate = calloc(nc, 1);
-    s->dirty = calloc(nc, 1);
+    s->hot = calloc(nc, sizeof *s->hot);
     s->dcost = malloc(sizeof *s->dcost * nc);
     s->dtie = malloc(sizeof *s->dtie * nc);
-    s->dtwin = malloc(sizeof *s->dtwin * nc);
-    s->elen = malloc(sizeof *s->elen * nc);
-    s->eround = malloc(sizeof *s->eround * nc);
     s->newp = malloc(sizeof *s->newp * 3 * nc);
     pp5_status_t st = PP5_OK;
-    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->dstate || !s->dirty ||
-        !s->dcost || !s->dtie || !s->dtwin || !s->elen || !s->eround || !s->newp)
+    if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->hot ||
+        !s->dcost || !s->dtie || !s->newp)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
@@ -669,8 +674,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (st == PP5_OK)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
-    free(s->dstate), free(s->dirty), free(s->dcost), free(s->dtie), free(s->dtwin), free(s->dlist);
-    free(s->elen), free(s->eround), free(s->newp);
+    free(s->hot), free(s->dcost), free(s->dtie), free(s->dlist), free(s->newp);
     free(s);
     return st;
 }
