@@ -221,6 +221,7 @@ static int bench_ours(const mesh_t *in, double ratio, int reps, const mesh_peers
     mesh_t out[3];
     double cpu[3][BENCH_MAX_ROUNDS];
     memset(out, 0, sizeof out);
+    reps = reps < 1 ? 1 : reps > BENCH_MAX_ROUNDS ? BENCH_MAX_ROUNDS : reps;
     for (int k = 0; k < 3; k++) {
         rows[k] = (bench_row_t){0};
         rows[k].target = (int)(ratio * in->n_faces + 0.5);
@@ -238,7 +239,7 @@ static int bench_ours(const mesh_t *in, double ratio, int reps, const mesh_peers
     for (int k = 0; k < 3 && ok; k++) {
         double r[BENCH_MAX_ROUNDS];
         for (int rep = 0; rep < reps; rep++)
-            r[rep] = cpu[k][rep] / cpu[0][rep];
+            r[rep] = cpu[0][rep] > 0 ? cpu[k][rep] / cpu[0][rep] : NAN;
         rows[k].ratio_qem = median(r, reps);
         our_hausdorff(in, &out[k], &rows[k]);
         if (pe) {
