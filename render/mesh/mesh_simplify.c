@@ -25,6 +25,7 @@ void mesh_simplify_defaults(mesh_simplify_opts_t *o, mesh_method_t method)
     o->s003_switch_fraction = 0.25;
     o->s003_independent_sets = true;
     o->s003_pin_corners = true;
+    o->s003_lazy = true;
     o->s003_point = SEED003_POINT_STENCIL;
 }
 

@@ -46,6 +46,10 @@ typedef struct {
     double s003_switch_fraction; /* phase 2 once faces <= this x input faces; 0 = never */
     bool s003_independent_sets;
     bool s003_pin_corners;     /* corners never move (Table 1 read literally moves them) */
+    /* Re-costed edges wait under a lower bound and are costed at the top of
+     * the queue (default); false costs each at once: slower, the same
+     * deletions (the check of the lazy bookkeeping). */
+    bool s003_lazy;
     seed003_point_t s003_point;
 } mesh_simplify_opts_t;
 

@@ -50,7 +50,7 @@ typedef struct {
     uint32_t *mark, mark_epoch;   /* vertices in the current update set */
     double mean_edge;
     int phase;
-    bool lazy;                    /* Cd >= 0 in both phases: the lower bound holds */
+    bool lazy;                    /* asked for, and Cd >= 0 in both phases: the bound holds */
     s003_corner_t *hot;           /* per corner */
     /* frozen edges: popped ones keep their key (per corner); re-costed ones
      * are evaluated once, when they thaw (nothing they depend on can change
@@ -648,7 +648,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (!s)
         return pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->w = w, s->o = o, s->epoch = 1;
-    s->lazy = o->s003_cd[0] >= 0 && o->s003_cd[1] >= 0;
+    s->lazy = o->s003_lazy && o->s003_cd[0] >= 0 && o->s003_cd[1] >= 0;
     size_t nv = (size_t)w->nv + 1, nc = 3 * (size_t)w->nf + 1;
     s->importance = calloc(nv, 1);
     s->corner = calloc(nv, 1);
