@@ -70,13 +70,20 @@ static inline double max_num(double a, double b)
     return a != a ? b : b > a ? b : a;
 }
 
-static double cos_between(const double a[3], const double b[3])
+/* The cosine between two vectors from their dot product and squared
+ * lengths, clamped to [-1, 1]; 1 where a length is zero. */
+static double cos_from(double dot, double len2_a, double len2_b)
 {
-    double l = sqrt(sw_dot(a, a) * sw_dot(b, b));
+    double l = sqrt(len2_a * len2_b);
     if (!(l > 0))
         return 1.0;
-    double c = sw_dot(a, b) / l;
+    double c = dot / l;
     return c > 1 ? 1 : c < -1 ? -1 : c;
+}
+
+static double cos_between(const double a[3], const double b[3])
+{
+    return cos_from(sw_dot(a, b), sw_dot(a, a), sw_dot(b, b));
 }
 
 static double angle_between(const double a[3], const double b[3])
@@ -115,9 +122,9 @@ static double boundary_turn(const sw_t *w, int v)
     return angle_between(u, t);
 }
 
-/* The face normals around a vertex, their squared lengths and, for a fan
- * of at most NORMALS_CACHED faces, the cosines between every two
- * (cos_between's doubles, which do not depend on the order of the pair). */
+/* The face normals around a vertex and, for a fan of at most
+ * NORMALS_CACHED faces, the cosines between every two (cos_between's
+ * doubles, which do not depend on the order of the pair). */
 #define NORMALS_CACHED 24
 typedef struct {
     int n;
@@ -131,8 +138,8 @@ static double normals_cos(const vertex_normals_t *vn, int i, int j)
 }
 
 /* Faces in index order; their normals are sw_init's (no merge yet).  Each
- * normal's squared length is taken once: cos_between's product of the two
- * is the same double. */
+ * normal's squared length is taken once (cos_from gets the same doubles as
+ * cos_between computes). */
 static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
 {
     int n = w->fan_n[v] < SW_MAX_FAN ? w->fan_n[v] : SW_MAX_FAN;
@@ -152,17 +159,10 @@ static void gather_normals(const sw_t *w, int v, vertex_normals_t *vn)
     double len2[NORMALS_CACHED];
     for (int i = 0; i < n; i++)
         len2[i] = sw_dot(vn->nr[i], vn->nr[i]);
-    for (int i = 0; i < n; i++) {
-        vn->cosines[i][i] = cos_between(vn->nr[i], vn->nr[i]);
-        for (int j = i + 1; j < n; j++) {
-            double l = sqrt(len2[i] * len2[j]), c = 1.0;
-            if (l > 0) {
-                c = sw_dot(vn->nr[i], vn->nr[j]) / l;
-                c = c > 1 ? 1 : c < -1 ? -1 : c;
-            }
-            vn->cosines[i][j] = vn->cosines[j][i] = c;
-        }
-    }
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++)
+            vn->cosines[i][j] = vn->cosines[j][i] =
+                cos_from(sw_dot(vn->nr[i], vn->nr[j]), len2[i], len2[j]);
 }
 
 /* A1 (§2.1), the widest angle between two of the normals, and the first
