@@ -17,10 +17,14 @@ typedef struct {
     pp5_params_t p;
 } fixture_t;
 
-static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
+/* The fixture's volume: bricks of 40 voxels a row, each brick holding every
+ * row of its slices. */
+static const int fixture_dims[3] = {40, 40, 36};
+
+static void fixture_sized(fixture_t *f, shade_case_t lighting, render_mode_t mode, const int dims[3])
 {
     memset(f, 0, sizeof *f);
-    REQUIRE(phantom_make("shepp-logan", 40, 40, 36, &f->v) == PP5_OK);
+    REQUIRE(phantom_make("shepp-logan", dims[0], dims[1], dims[2], &f->v) == PP5_OK);
     REQUIRE(classify_preset("shepp-logan", &f->tf) == PP5_OK);
     shade_defaults(&f->shade);
     f->shade.lighting = lighting;
@@ -39,6 +43,11 @@ static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
     pp5_params_default(&f->p);
     f->p.n_gp = 4;
     f->p.n_renderers = 4;
+}
+
+static void fixture(fixture_t *f, shade_case_t lighting, render_mode_t mode)
+{
+    fixture_sized(f, lighting, mode, fixture_dims);
 }
 
 /* The fixture as a render job (the settings as they are now). */
@@ -69,11 +78,12 @@ static int max_diff(const image8_t *a, const image8_t *b)
 }
 
 /* Runs the machine and both native references for a few gazes. */
-static void check_against_native_opts(shade_case_t lighting, render_mode_t mode,
-                                      const fw_options_t *opts, projection_t proj)
+static void check_against_native_sized(shade_case_t lighting, render_mode_t mode,
+                                       const fw_options_t *opts, projection_t proj,
+                                       const int dims[3])
 {
     fixture_t f;
-    fixture(&f, lighting, mode);
+    fixture_sized(&f, lighting, mode, dims);
     f.rs.view.projection = proj;
     f.rs.level_tables = opts->level_tables;
     fw_options_t o = *opts;
@@ -123,6 +133,12 @@ static void check_against_native_opts(shade_case_t lighting, render_mode_t mode,
     native_renderer_free(&flt);
     fw_session_free(&s);
     volume_free(&f.v);
+}
+
+static void check_against_native_opts(shade_case_t lighting, render_mode_t mode,
+                                      const fw_options_t *opts, projection_t proj)
+{
+    check_against_native_sized(lighting, mode, opts, proj, fixture_dims);
 }
 
 static void check_against_native_view(shade_case_t lighting, render_mode_t mode, int split,
@@ -185,6 +201,21 @@ TEST(fw_image_matches_native_specular_gp_split_full) { check_against_native(SHAD
 
 /* Both splits compute the same integer shading: identical images, and the
  * PP split really runs shading streams on the renderers. */
+/* 48 voxels a row: a level-0 brick (16384 voxels, 8 slices) is 48 x 42
+ * voxels, fewer rows than the volume has, and 42 is not a whole number of
+ * the 8-row strips the GPs build the levels in.  The machine must still
+ * build the same mip map as the native renderer. */
+TEST(fw_image_matches_native_bricks_narrower_than_64)
+{
+    static const int dims[3] = {48, 48, 40};
+    fw_options_t o;
+    fw_options_default(&o);
+    check_against_native_sized(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, &o,
+                               PROJECTION_PARALLEL, dims);
+    check_against_native_sized(SHADE_DIFFUSE_FIXED_LIGHT, RENDER_MODE_FULL, &o,
+                               PROJECTION_PARALLEL, dims);
+}
+
 TEST(fw_split_pp_and_gp_give_identical_images)
 {
     image8_t img[2] = {{0}, {0}};

@@ -141,6 +141,12 @@ static inline int vr_geometry(const vr_config_t *c, vr_level_geom_t *geom)
             bz = nz;
         int bx = nx < 64 ? nx : 64;
         int by = (int)(VR_BRICK_VOXELS / (unsigned)(bx * bz));
+        /* Level 0 is built in strips of 2^slab_k rows, so that each strip
+         * holds whole rows of every level up to slab_k; a brick row must
+         * be a whole number of strips (vr_setup.c build_slab).  A brick
+         * narrower than 64 voxels would otherwise get a height like 42. */
+        if (n == 0)
+            by &= ~((1 << c->slab_k) - 1);
         if (by > ny)
             by = ny;
         g->bx = bx;
