@@ -144,16 +144,18 @@ TEST(fw_division_resident_repeated_diffuse_frame_moves_no_mip_map_bytes)
 /* Object slabs composite each ray from segments whose early termination
  * cannot see the opacity in front of them: the same rays, more samples, and
  * an image within 35 dB of render/ on the machine's formats. */
-TEST(fw_division_object_slabs_image_within_tolerance_of_native)
+static void check_object_slabs_against_native(int size, int n_gp)
 {
     div_fixture_t f;
-    div_fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, 64, 4);
+    div_fixture(&f, SHADE_DIFFUSE_FIXED_LIGHT, size, n_gp);
     fw_options_t o;
     fw_options_default(&o);
     o.division = FW_DIVISION_OBJECT_SLABS;
     native_renderer_t quant;
     REQUIRE(fw_reference_init(&quant, &f.job, true) == PP5_OK);
-    const double gazes[2][2] = {{31.5, 31.5}, {12.0, 50.0}};
+    /* the centre, and a point towards a corner (12, 50 of a 64-pixel side) */
+    const double gazes[2][2] = {{0.5 * (size - 1), 0.5 * (size - 1)},
+                                {size * 12.0 / 64.0, size * 50.0 / 64.0}};
     for (int k = 0; k < 2; k++) {
         image8_t img = {0}, ref = {0};
         fw_frame_result_t r;
@@ -172,6 +174,18 @@ TEST(fw_division_object_slabs_image_within_tolerance_of_native)
     }
     native_renderer_free(&quant);
     volume_free(&f.v);
+}
+
+TEST(fw_division_object_slabs_image_within_tolerance_of_native)
+{
+    check_object_slabs_against_native(64, 4);
+}
+
+/* 40 rows over 16 GPs: bands of 4 rows leave the last GPs without a band,
+ * but they still hold slabs whose segments every band needs. */
+TEST(fw_division_object_slabs_with_gps_that_own_no_band)
+{
+    check_object_slabs_against_native(40, 16);
 }
 
 /* A fixed light is in the mip map: changing it between frames is refused. */

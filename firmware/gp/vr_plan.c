@@ -267,8 +267,10 @@ fw_status_t vr_plan_frame_start(gp_t *gp, vr_state_t *s, uint32_t frame)
     s->y1 = s->fr.band_y0[s->g + 1];
     bool last = s->g + 1 >= s->n_gp || s->fr.band_y0[s->g + 2] == s->fr.band_y0[s->g + 1] ||
                 s->y1 >= H;
-    if (s->y0 >= s->y1)
+    if (s->y0 >= s->y1 && s->cfg.division != VR_DIVISION_OBJECT_SLABS)
         return empty_band(gp, s);
+    if (s->y0 >= s->y1)           /* no band, but its slab's segments of every band */
+        return vr_slabs_frame(gp, s);
     int span = 1 << s->maxm;
     s->ly0 = s->y0 - span < 0 ? 0 : s->y0 - span;
     s->ly1 = s->y1 + span > H ? H : s->y1 + span;

@@ -307,6 +307,14 @@ fw_status_t vr_slabs_progress(gp_t *gp, vr_state_t *s)
     if (s->bands_cast == s->bands_with_rows && !s->slab_cast_over) {
         vr_stat_set(gp, s, VR_STAT_T_CAST_DONE, fw_time_ps(gp));
         s->slab_cast_over = true;
+        if (!band_has_rows(s, s->g)) {
+            /* A GP without a band (fewer texel rows than GPs) is done when
+             * its segments are sent: it has nothing to composite or show. */
+            vr_stat_set(gp, s, VR_STAT_T_BOUNDARY, fw_time_ps(gp));
+            vr_stat_set(gp, s, VR_STAT_T_DONE, fw_time_ps(gp));
+            vr_stat_set(gp, s, VR_STAT_ALL_LEVEL0, 1);
+            s->frame_done = true;
+        }
     }
     if (!s->blocked && s->needs_pending > 0) {
         s->blocked = true;

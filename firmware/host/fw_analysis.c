@@ -6,6 +6,7 @@
  * counters.  The split is described in firmware/ARCHITECTURE.md "Frame
  * report". */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fw_internal.h"
@@ -14,6 +15,24 @@
 static double prog(const stats_t *f, unsigned g, const char *name)
 {
     return stats_valuef(f, "gp.%u.prog.%s", g, name);
+}
+
+pp5_status_t fw_frame_check_finished(const fw_session_t *s, const stats_t *f)
+{
+    char list[256] = "";
+    unsigned stuck = 0;
+    size_t used = 0;
+    for (unsigned g = 0; g < s->m.n_gp; g++) {
+        if (!(prog(f, g, "t_done_ps") < prog(f, g, "t_start_ps")))
+            continue;
+        if (stuck++ < 8 && used + 16 < sizeof list)
+            used += (size_t)snprintf(list + used, sizeof list - used, "%s%u", stuck > 1 ? ", " : "", g);
+    }
+    if (stuck == 0)
+        return PP5_OK;
+    return pp5_fail(PP5_E_FIRMWARE, "machine renderer: the frame went idle with %u GP(s) unfinished "
+                    "(%s%s): a message they waited for was never sent", stuck, list,
+                    stuck > 8 ? ", ..." : "");
 }
 
 static void gather_work(fw_session_t *s, const stats_t *f, double T, fw_frame_result_t *r)

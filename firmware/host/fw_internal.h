@@ -30,6 +30,11 @@ pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job);
 double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int unit_index, double gx,
                         double gy);
 
+/* PP5_E_FIRMWARE, naming them, when the frame went idle with GPs that never
+ * finished it (a firmware that waits for a message nobody sends): its image
+ * would be incomplete, so it is not reported as a frame. */
+pp5_status_t fw_frame_check_finished(const fw_session_t *s, const stats_t *frame);
+
 /* fw_analysis.c: the frame result from the statistics of the frame
  * (differences of two snapshots) and the frame's span [t0, t1]. */
 void fw_frame_analyse(fw_session_t *s, const stats_t *frame, pp5_tick_t t0, pp5_tick_t t1,

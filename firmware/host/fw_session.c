@@ -437,6 +437,8 @@ pp5_status_t fw_session_frame(fw_session_t *s, double gx, double gy, image8_t *i
     pp5_status_t st = run_frame(s, &f, &frame, &t1);
     s->frames++;
     s->prog_index++;
+    if (st == PP5_OK && (st = fw_frame_check_finished(s, &frame)) != PP5_OK)
+        stats_free(&frame);
     if (st != PP5_OK)
         return st;
     fw_frame_analyse(s, &frame, t0, t1, r);
