@@ -205,6 +205,25 @@ void fw_dcache_access(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t of
         gp_dcache_access(&gp->dcache, addr, bytes, is_store != 0, ops);
 }
 
+void fw_dcache_access_n(gp_t *gp, fw_ops_t *ops, const void *block_base, const size_t *offsets,
+                        size_t n, size_t bytes, int is_store)
+{
+    if (n == 0 || bytes == 0)
+        return;
+    size_t last = 0;
+    for (size_t i = 0; i < n; i++)
+        last = offsets[i] > last ? offsets[i] : last;
+    /* Every offset is at most the last, so one range check covers them all. */
+    const gp_block_t *b = gp_block_of(gp, block_base, last, bytes, "fw_dcache_access_n");
+    if (!b)
+        return;
+    for (size_t i = 0; i < n; i++) {
+        uint64_t addr = b->emu_addr + offsets[i];
+        if (!gp_dcache_hit_most_recent(&gp->dcache, addr, bytes, is_store != 0, ops))
+            gp_dcache_access(&gp->dcache, addr, bytes, is_store != 0, ops);
+    }
+}
+
 void fw_rx_deposit(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset, size_t bytes)
 {
     const gp_block_t *b = NULL;

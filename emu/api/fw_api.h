@@ -115,6 +115,11 @@ void fw_charge(gp_t *gp, const fw_ops_t *ops);
  * error.  Accesses not declared count as hits (small tables, state). */
 void fw_dcache_access(gp_t *gp, fw_ops_t *ops, const void *block_base, size_t offset,
                       size_t bytes, int is_store);
+/* n accesses of `bytes` each at offsets[0], ..., offsets[n - 1] of one
+ * block, in that order: the same lookups, in the same order, as n calls of
+ * fw_dcache_access (host speed: the block is checked once). */
+void fw_dcache_access_n(gp_t *gp, fw_ops_t *ops, const void *block_base, const size_t *offsets,
+                        size_t n, size_t bytes, int is_store);
 
 /* Ring delivery.  Every received message costs the GP gp.rx_msg_cycles
  * when it is handed to on_message (taking it off the port: [U] facts open
