@@ -230,6 +230,54 @@ TEST(fw_blend_images_equal_native_in_both_divisions)
         }
 }
 
+/* Resident on the paper's machine (16 GPs, 8 MB each) with a small image:
+ * each GP's band crosses the whole volume, so its cache fills local memory
+ * and every later frame's units must find room by eviction.  Room is
+ * counted from a unit's request, so the units of one pass in flight cannot
+ * add up to more than the cache holds. */
+TEST(fw_blend_resident_cache_full_frames_keep_within_memory)
+{
+    blend_fixture_t f;
+    blend_fixture(&f, BLEND_DEMIP, RENDER_MODE_GAZE);
+    volume_free(&f.v);
+    REQUIRE(phantom_make("shepp-logan", 256, 256, 109, &f.v) == PP5_OK);
+    f.rs.width = f.rs.height = 40;
+    f.rs.blend.window_centre = 100.0f;   /* the phantom's whole range: less is skipped */
+    f.rs.blend.window_width = 200.0f;
+    f.p.n_gp = 16;
+    f.p.n_renderers = 16;
+    f.o.division = FW_DIVISION_RESIDENT;
+    fw_session_t s;
+    REQUIRE_MSG(fw_session_init(&s, BLEND_JOB(f), &f.p, &f.o) == PP5_OK, "session: %s",
+                pp5_error_text());
+    native_renderer_t nr;
+    REQUIRE(native_renderer_init(&nr, &f.v, &f.tf, &f.shade, 1) == PP5_OK);
+    REQUIRE(native_renderer_build_scalar(&nr, &f.v, f.rs.blend.pyramid) == PP5_OK);
+    for (int k = 0; k < 3; k++) {
+        image8_t img = {0}, ref = {0};
+        fw_frame_result_t r;
+        double gx = 9.5 + 10.0 * k, gy = 19.5;
+        pp5_status_t st = fw_session_frame(&s, gx, gy, &img, &r);
+        CHECK_MSG(st == PP5_OK, "frame %d: %s", k, pp5_error_text());
+        if (st != PP5_OK)
+            break;
+        render_settings_t rs = f.rs;
+        rs.gaze_x = gx;
+        rs.gaze_y = gy;
+        render_stats_t ns;
+        REQUIRE(native_renderer_frame(&nr, &rs, &ref, &ns) == PP5_OK);
+        size_t n = (size_t)img.width * img.height * img.channels, diff = 0;
+        for (size_t i = 0; i < n; i++)
+            diff += img.pixels[i] != ref.pixels[i];
+        CHECK_MSG(diff == 0, "frame %d: %zu of %zu bytes differ from render/'s", k, diff, n);
+        image8_free(&img);
+        image8_free(&ref);
+    }
+    native_renderer_free(&nr);
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
 TEST(fw_blend_object_slabs_refused_with_reason)
 {
     blend_fixture_t f;

@@ -173,7 +173,7 @@ static fw_status_t take_cached(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *
         s->unit_stamp[id] = (uint32_t)s->frame + 1u;
         if (s->unit_state[id] == 2)
             continue;
-        if (vr_units_make_room(gp, s, vr_unit_bytes(s, id)) != FW_OK)
+        if (vr_units_request(gp, s, id) != FW_OK)
             return FW_ERROR;
         want[k++] = (uint32_t)id;
     }
@@ -207,8 +207,10 @@ fw_status_t vr_fetch_request_pass(gp_t *gp, vr_state_t *s)
     }
     if (resident && take_cached(gp, s, want, &n_want) != FW_OK)
         return FW_ERROR;
-    for (size_t i = 0; i < n_want; i++)
+    for (size_t i = 0; i < n_want && !resident; i++) {
+        s->cache_bytes += vr_unit_bytes(s, (int)want[i]);   /* counted from the request */
         s->unit_state[want[i]] = 1;
+    }
     vr_stat_add(gp, s, VR_STAT_CYC_PREP, fw_cycles(gp) - c0);
     s->bricks_pending = (int)n_want * vr_unit_reads(s);
     rc = vr_fetch_send_requests(gp, s, want, n_want);
@@ -324,7 +326,6 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
     if (gp_shade)
         shade_unit(gp, s, id);
     s->unit_state[id] = 2;
-    s->cache_bytes += bytes;
     for (int t = 0; t < s->tiles; t++)
         s->tile_pending[t] -= (s->unit_tiles[id] >> t) & 1;
     return vr_fetch_cast_ready(gp, s);

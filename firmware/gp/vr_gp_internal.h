@@ -224,7 +224,7 @@ int vr_unit_reads(const vr_state_t *s);
 unsigned vr_unit_renderer(const vr_state_t *s, int id);
 fw_status_t vr_unit_send_read(gp_t *gp, vr_state_t *s, int id, unsigned requester);
 void vr_units_drop_all(gp_t *gp, vr_state_t *s);
-fw_status_t vr_units_make_room(gp_t *gp, vr_state_t *s, size_t bytes);
+fw_status_t vr_units_request(gp_t *gp, vr_state_t *s, int id);
 
 /* vr_footprint.c */
 fw_status_t vr_footprint_bricks(gp_t *gp, vr_state_t *s, uint32_t *want, size_t *n_out);

@@ -127,10 +127,9 @@ static fw_status_t request_slab_units(gp_t *gp, vr_state_t *s)
         s->unit_tiles[id] = 1;       /* needed by this frame: not to be evicted */
         if (s->unit_state[id] == 2)
             continue;
-        if (vr_units_make_room(gp, s, vr_unit_bytes(s, id)) != FW_OK)
+        if (vr_units_request(gp, s, id) != FW_OK)
             return FW_ERROR;
         want[n++] = (uint32_t)id;
-        s->unit_state[id] = 1;
     }
     fw_charge(gp, &ops);
     s->bricks_pending = (int)n * vr_unit_reads(s);

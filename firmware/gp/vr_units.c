@@ -144,10 +144,11 @@ fw_status_t vr_units_init(gp_t *gp, vr_state_t *s)
 
 static void unit_drop(gp_t *gp, vr_state_t *s, int id)
 {
+    if (s->unit_state[id] != 0)
+        s->cache_bytes -= vr_unit_bytes(s, id);   /* counted from its request */
     if (s->cache[id]) {
         fw_free(gp, s->cache[id]);
         s->cache[id] = NULL;
-        s->cache_bytes -= vr_unit_bytes(s, id);
     }
     if (s->cache_n[id]) {
         fw_free(gp, s->cache_n[id]);
@@ -167,7 +168,7 @@ void vr_units_drop_all(gp_t *gp, vr_state_t *s)
 /* Evicts the least recently used present units that this pass does not
  * need (ties: the lowest id) until `bytes` more fit the budget.  The scan is
  * GP work. */
-fw_status_t vr_units_make_room(gp_t *gp, vr_state_t *s, size_t bytes)
+static fw_status_t make_room(gp_t *gp, vr_state_t *s, size_t bytes)
 {
     fw_ops_t ops = {0};
     fw_status_t rc = FW_OK;
@@ -242,5 +243,18 @@ fw_status_t vr_unit_send_read(gp_t *gp, vr_state_t *s, int id, unsigned requeste
                     NULL, 0) != FW_OK)
             return FW_ERROR;
     }
+    return FW_OK;
+}
+
+fw_status_t vr_units_request(gp_t *gp, vr_state_t *s, int id)
+{
+    size_t bytes = vr_unit_bytes(s, id);
+    if (make_room(gp, s, bytes) != FW_OK)
+        return FW_ERROR;
+    /* Counted from the request, not the arrival: otherwise every unit of a
+     * pass would find room in the same free bytes, and their arrival could
+     * overrun local memory. */
+    s->cache_bytes += bytes;
+    s->unit_state[id] = 1;
     return FW_OK;
 }
