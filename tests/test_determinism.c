@@ -172,3 +172,27 @@ TEST(determinism_threads_reproduce_demip_images)
                          outs, one_two_three, 3, NULL);
     CHECK_EQ(n, 3 * 3);
 }
+
+/* reproduce projections runs its machines side by side on --threads host
+ * threads and prints them in their order: the whole text (the table and
+ * the sensitivity block, emulated figures only) is the same for 1 and 2. */
+TEST(determinism_threads_reproduce_projections_quick)
+{
+    char out[2][1024], err[1024];
+    const int threads[2] = {1, 2};
+    const char *dir = pp5_test_outdir();     /* (each call empties the folder) */
+    for (int k = 0; k < 2; k++) {
+        char args[128];
+        snprintf(out[k], sizeof out[k], "%s/projections_t%d.txt", dir, threads[k]);
+        snprintf(err, sizeof err, "%s/projections_t%d.err", dir, threads[k]);
+        snprintf(args, sizeof args, "reproduce projections --quick --threads %d", threads[k]);
+        REQUIRE_MSG(pp5_test_run_cli(args, out[k], err) == 0, "pp5 %s failed", args);
+    }
+    char *a = pp5_test_read_file(out[0]), *b = pp5_test_read_file(out[1]);
+    REQUIRE(a && b);
+    CHECK(strstr(a, "| B | object-slabs |") != NULL);   /* the table is there */
+    CHECK(strstr(a, "Sensitivity of the headline") != NULL);
+    CHECK_MSG(strcmp(a, b) == 0, "output differs between 1 and 2 threads");
+    free(a);
+    free(b);
+}

@@ -2,8 +2,10 @@
 #ifndef PP5_REPRODUCE_PROJECTIONS_H
 #define PP5_REPRODUCE_PROJECTIONS_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include "firmware/host/fw_session.h"
+#include "progress.h"
 
 typedef struct {
     char tag;                         /* 'A' (Table I) or 'B' (the 10 frames/s claim) */
@@ -42,8 +44,19 @@ pp5_status_t proj_machine(const char *preset, const proj_set_t *sets, int n_sets
 pp5_status_t proj_run(const proj_workload_t *w, int lighting, fw_division_t division,
                       const pp5_params_t *p, int size, proj_row_t *out);
 
+/* The progress line of runs that finish on several host threads. */
+typedef struct {
+    progress_t pr;
+    pthread_mutex_t lock;
+} proj_runs_t;
+void proj_runs_begin(proj_runs_t *r, const char *label, int total);
+void proj_runs_step(proj_runs_t *r, const char *what);   /* from any thread */
+void proj_runs_end(proj_runs_t *r);
+
 /* The sensitivity block: every ranged [U]/[I] parameter to its plausible low
- * and high, the steady frame of the division on workload w (specular). */
-int proj_sensitivity(const proj_workload_t *w, fw_division_t division, int size, bool quick);
+ * and high, the steady frame of the division on workload w (specular); the
+ * runs on `threads` host threads. */
+int proj_sensitivity(const proj_workload_t *w, fw_division_t division, int size, bool quick,
+                     int threads);
 
 #endif

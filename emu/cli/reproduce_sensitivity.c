@@ -1,16 +1,19 @@
 /* reproduce_sensitivity.c: the sensitivity block of `pp5 reproduce projections`: the frame time of the best division as each unverified or inferred machine parameter moves over the plausible range written beside it in the parameter table. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "params.h"
 #include "progress.h"
+#include "render/parallel.h"
 #include "reproduce_projections.h"
 
 typedef struct {
     const param_info_t *row;
     double lo_s, hi_s;         /* steady frame time at the range's low and high end */
     bool ok;
+    char error[512];           /* why a run failed */
 } sens_t;
 
 static bool uncertain(const param_info_t *row)
@@ -75,7 +78,47 @@ static pp5_status_t corner_frames(const proj_workload_t *w, fw_division_t d, int
     return st;
 }
 
-int proj_sensitivity(const proj_workload_t *w, fw_division_t d, int size, bool quick)
+/* The runs of the block: item 0 the defaults, then each parameter's low
+ * and high end (items 2i + 1, 2i + 2). */
+typedef struct {
+    const proj_workload_t *w;
+    fw_division_t d;
+    int size;
+    sens_t *v;
+    double base_s;
+    pp5_status_t base_st;
+    char base_error[512];
+    proj_runs_t runs;
+} sens_runs_t;
+
+static void sens_run(void *ctx, int item, int thread)
+{
+    (void)thread;
+    sens_runs_t *t = ctx;
+    if (item == 0) {
+        pp5_params_t p;
+        proj_row_t r;
+        t->base_st = proj_machine("default", NULL, 0, &p);
+        if (t->base_st == PP5_OK)
+            t->base_st = proj_run(t->w, 1, t->d, &p, t->size, &r);
+        t->base_s = t->base_st == PP5_OK ? r.steady_s : 0;
+        if (t->base_st != PP5_OK)
+            snprintf(t->base_error, sizeof t->base_error, "%s", pp5_error_text());
+        proj_runs_step(&t->runs, "defaults");
+        return;
+    }
+    sens_t *v = &t->v[(item - 1) / 2];
+    bool high = (item - 1) % 2 == 1;
+    double *s = high ? &v->hi_s : &v->lo_s;
+    if (frame_at(t->w, t->d, t->size, v->row, high ? v->row->plausible_hi : v->row->plausible_lo,
+                 s) != PP5_OK) {
+        *s = NAN;                 /* the error text: one of the ends' */
+        snprintf(v->error, sizeof v->error, "%s", pp5_error_text());
+    }
+    proj_runs_step(&t->runs, v->row->name);
+}
+
+int proj_sensitivity(const proj_workload_t *w, fw_division_t d, int size, bool quick, int threads)
 {
     size_t n = 0, cap = params_count();
     sens_t *v = calloc(cap, sizeof *v);
@@ -86,27 +129,26 @@ int proj_sensitivity(const proj_workload_t *w, fw_division_t d, int size, bool q
             v[n++].row = params_info(i);
     if (quick && n > 3)
         n = 3;
-    pp5_params_t p;
-    proj_row_t base;
-    if (proj_machine("default", NULL, 0, &p) != PP5_OK || proj_run(w, 1, d, &p, size, &base) != PP5_OK) {
+    sens_runs_t t = {.w = w, .d = d, .size = size, .v = v};
+    proj_runs_begin(&t.runs, "sensitivity", (int)(2 * n + 1));
+    pp5_status_t pst = parallel_for(threads, (int)(2 * n + 1), sens_run, &t);
+    proj_runs_end(&t.runs);
+    if (pst != PP5_OK || t.base_st != PP5_OK) {
+        printf("\nSensitivity: not run (%s).\n", pst != PP5_OK ? pp5_error_text() : t.base_error);
         free(v);
         return 1;
     }
-    progress_t pr;
-    progress_begin(&pr, "sensitivity", (int)n);
-    double lo = base.steady_s, hi = base.steady_s;
+    double lo = t.base_s, hi = t.base_s;
     for (size_t i = 0; i < n; i++) {
-        v[i].ok = frame_at(w, d, size, v[i].row, v[i].row->plausible_lo, &v[i].lo_s) == PP5_OK &&
-                  frame_at(w, d, size, v[i].row, v[i].row->plausible_hi, &v[i].hi_s) == PP5_OK;
+        v[i].ok = !isnan(v[i].lo_s) && !isnan(v[i].hi_s);
         if (v[i].ok) {
             double a = v[i].lo_s < v[i].hi_s ? v[i].lo_s : v[i].hi_s;
             double b = v[i].lo_s < v[i].hi_s ? v[i].hi_s : v[i].lo_s;
             lo = a < lo ? a : lo;
             hi = b > hi ? b : hi;
         }
-        progress_step(&pr, v[i].row->name);
     }
-    progress_end(&pr);
+    proj_row_t base = {.steady_s = t.base_s};
     double corner[2] = {0, 0};   /* every parameter at its faster / slower end together */
     bool corner_ok = corner_frames(w, d, size, v, n, corner) == PP5_OK;
     qsort(v, n, sizeof *v, by_swing);
@@ -120,7 +162,7 @@ int proj_sensitivity(const proj_workload_t *w, fw_division_t d, int size, bool q
     for (size_t i = 0; i < n && i < 8; i++) {
         if (!v[i].ok) {
             printf("| %s | %g .. %g | error: %s | | |\n", v[i].row->name, v[i].row->plausible_lo,
-                   v[i].row->plausible_hi, pp5_error_text());
+                   v[i].row->plausible_hi, v[i].error);
             continue;
         }
         printf("| %s | %g .. %g %s | %.1f | %.1f | %+.1f ms |\n", v[i].row->name,

@@ -54,3 +54,22 @@ void proj_workload_free(proj_workload_t *w)
     volume_free(&w->volume);
     memset(w, 0, sizeof *w);
 }
+
+void proj_runs_begin(proj_runs_t *r, const char *label, int total)
+{
+    pthread_mutex_init(&r->lock, NULL);
+    progress_begin(&r->pr, label, total);
+}
+
+void proj_runs_step(proj_runs_t *r, const char *what)
+{
+    pthread_mutex_lock(&r->lock);
+    progress_step(&r->pr, what);
+    pthread_mutex_unlock(&r->lock);
+}
+
+void proj_runs_end(proj_runs_t *r)
+{
+    progress_end(&r->pr);
+    pthread_mutex_destroy(&r->lock);
+}
