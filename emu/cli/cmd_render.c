@@ -93,8 +93,10 @@ static void render_usage(void)
            "  pp5 render --dataset cthead --voxel-format u8 --mode full --out u8.png\n"
            "  pp5 render --volume skull_64x64x64_f32le.raw --out s.png --tf-out skull.tf\n"
            "  pp5 render --machine --division resident --frames 4 --report r.json --out m.png\n"
-           "  pp5 render --machine --phantom shepp-logan --blend demip --sphere-weight 0.3 --out d.png\n"
-           "  (--machine casts every --blend; MIP, DEMIP and MIDA in image-bands or resident)\n"
+           "  pp5 render --machine --phantom shepp-logan --blend demip --sphere-weight 0.3 \\\n"
+           "      --division resident --out d.png\n"
+           "  (--machine casts every --blend, in image-bands or resident; a blend's rays are cast\n"
+           "  whole, so image-bands may not fit a GP's memory at 512x512 where resident does)\n"
            "  pp5 render --scene gen:spheres100k --shading phong --mode gaze --gaze 200,300 \\\n"
            "      --compare --size 640x480 --out s.png --report s.json\n",
            phantom_names(), classify_preset_names(), PP5_PARAMS_CLI_HELP);
