@@ -58,7 +58,7 @@ static void sweep_usage(FILE *out)
             "MPI launcher, rank 0 hands the points out one at a time and writes the outputs in\n"
             "grid order: they are byte-identical to the plain run for any number of ranks.  A\n"
             "point that fails (e.g. GP memory too small) is a row with its error; the others\n"
-            "still run, and the exit code is 3.\n\n"
+            "still run, and the exit code is 8 (units failed).\n\n"
             "Examples:\n"
             "  pp5 sweep --set division=image-bands,resident,object-slabs --out d.csv --plot d.png\n"
             "  mpirun -n 2 pp5 sweep --set gp.count=4,8,16,32 --set ring.channels=1,8 --out s.csv\n"
