@@ -307,8 +307,9 @@ fw_status_t vr_slabs_progress(gp_t *gp, vr_state_t *s)
         vr_stat_set(gp, s, VR_STAT_T_CAST_DONE, fw_time_ps(gp));
         s->slab_cast_over = true;
         if (!band_has_rows(s, s->g)) {
-            /* A GP without a band (fewer texel rows than GPs) is done when
-             * its segments are sent: it has nothing to composite or show. */
+            /* A GP without a band (too few image rows for every GP to own
+             * one) is done when its segments are sent: it has nothing to
+             * composite or show. */
             vr_stat_set(gp, s, VR_STAT_T_BOUNDARY, fw_time_ps(gp));
             vr_stat_set(gp, s, VR_STAT_T_DONE, fw_time_ps(gp));
             vr_stat_set(gp, s, VR_STAT_ALL_LEVEL0, 1);
