@@ -13,7 +13,7 @@ typedef struct {
     const param_info_t *row;
     double lo_s, hi_s;         /* steady frame time at the range's low and high end */
     bool ok;
-    char error[512];           /* why a run failed */
+    char error[2][512];        /* why the low / high run failed (each written by its own run) */
 } sens_t;
 
 static bool uncertain(const param_info_t *row)
@@ -112,8 +112,8 @@ static void sens_run(void *ctx, int item, int thread)
     double *s = high ? &v->hi_s : &v->lo_s;
     if (frame_at(t->w, t->d, t->size, v->row, high ? v->row->plausible_hi : v->row->plausible_lo,
                  s) != PP5_OK) {
-        *s = NAN;                 /* the error text: one of the ends' */
-        snprintf(v->error, sizeof v->error, "%s", pp5_error_text());
+        *s = NAN;
+        snprintf(v->error[high], sizeof v->error[high], "%s", pp5_error_text());
     }
     proj_runs_step(&t->runs, v->row->name);
 }
@@ -162,7 +162,7 @@ int proj_sensitivity(const proj_workload_t *w, fw_division_t d, int size, bool q
     for (size_t i = 0; i < n && i < 8; i++) {
         if (!v[i].ok) {
             printf("| %s | %g .. %g | error: %s | | |\n", v[i].row->name, v[i].row->plausible_lo,
-                   v[i].row->plausible_hi, v[i].error);
+                   v[i].row->plausible_hi, v[i].error[isnan(v[i].lo_s) ? 0 : 1]);
             continue;
         }
         printf("| %s | %g .. %g %s | %.1f | %.1f | %+.1f ms |\n", v[i].row->name,
