@@ -199,12 +199,10 @@ TEST(fw_image_matches_native_diffuse_full) { check_against_native(SHADE_DIFFUSE_
 TEST(fw_image_matches_native_specular_pp_gaze) { check_against_native(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_GAZE, VR_SPLIT_PP); }
 TEST(fw_image_matches_native_specular_gp_split_full) { check_against_native(SHADE_SPECULAR_FIXED_LIGHT, RENDER_MODE_FULL, VR_SPLIT_GP); }
 
-/* Both splits compute the same integer shading: identical images, and the
- * PP split really runs shading streams on the renderers. */
-/* 48 voxels a row: a level-0 brick (16384 voxels, 8 slices) is 48 x 42
- * voxels, fewer rows than the volume has, and 42 is not a whole number of
- * the 8-row strips the GPs build the levels in.  The machine must still
- * build the same mip map as the native renderer. */
+/* 48 voxels a row: 16384 voxels in 8 slices would make a level-0 brick 42
+ * rows high, fewer than the volume has and not a whole number of the 8-row
+ * strips the GPs build the levels in (the geometry rounds it to 40).  The
+ * machine must build the same mip map as the native renderer. */
 TEST(fw_image_matches_native_bricks_narrower_than_64)
 {
     static const int dims[3] = {48, 48, 40};
@@ -216,6 +214,8 @@ TEST(fw_image_matches_native_bricks_narrower_than_64)
                                PROJECTION_PARALLEL, dims);
 }
 
+/* Both splits compute the same integer shading: identical images, and the
+ * PP split really runs shading streams on the renderers. */
 TEST(fw_split_pp_and_gp_give_identical_images)
 {
     image8_t img[2] = {{0}, {0}};
