@@ -112,7 +112,7 @@ static int fan_index(const sw_t *w, int v, int x)
 {
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
-        if (w->nextv[fan[i]] == x)
+        if (sw_nextv(w, fan[i]) == x)
             return i;
     return -1;
 }
@@ -128,11 +128,11 @@ static bool butterfly(const s003_context_t *c, int a, int b, s003_stencil_t *s)
     if (i < 0 || j < 0)
         return false;
     const int32_t *fa = sw_fan(w, a), *fb = sw_fan(w, b);
-    int o1 = w->prevv[fa[i]], o2 = w->prevv[fb[j]];
-    int wings[4] = {w->prevv[fa[(i + 1) % 6]],    /* across a -> o1 */
-                    w->nextv[fb[(j + 4) % 6]],    /* across o1 -> b */
-                    w->nextv[fa[(i + 4) % 6]],    /* across o2 -> a */
-                    w->prevv[fb[(j + 1) % 6]]};   /* across b -> o2 */
+    int o1 = sw_prevv(w, fa[i]), o2 = sw_prevv(w, fb[j]);
+    int wings[4] = {sw_prevv(w, fa[(i + 1) % 6]),    /* across a -> o1 */
+                    sw_nextv(w, fb[(j + 4) % 6]),    /* across o1 -> b */
+                    sw_nextv(w, fa[(i + 4) % 6]),    /* across o2 -> a */
+                    sw_prevv(w, fb[(j + 1) % 6])};   /* across b -> o2 */
     add(s, a, 0.5), add(s, b, 0.5), add(s, o1, 0.125), add(s, o2, 0.125);
     for (int k = 0; k < 4; k++)
         add(s, wings[k], -1.0 / 16.0);
@@ -147,7 +147,7 @@ static int feature_neighbour(const s003_context_t *c, int v, int skip)
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
         for (int k = 0; k < 2; k++) {
-            int x = (k ? w->prevv : w->nextv)[fan[i]];
+            int x = (k ? sw_prevv(w, fan[i]) : sw_nextv(w, fan[i]));
             if (x == skip || x == found)
                 continue;
             if (s003_feature_edge(c, v, x)) {
@@ -167,12 +167,12 @@ static int boundary_neighbour(const sw_t *w, int v, int skip)
     const int32_t *fan = sw_fan(w, v);
     int n = w->fan_n[v];
     if (w->fan_kind[v] == SW_FAN_PATH) {   /* the path's two ends */
-        int first = w->nextv[fan[0]], last = w->prevv[fan[n - 1]];
+        int first = sw_nextv(w, fan[0]), last = sw_prevv(w, fan[n - 1]);
         return first != skip ? first : last != skip ? last : -1;
     }
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 2; k++) {
-            int x = (k ? w->prevv : w->nextv)[fan[i]];
+            int x = (k ? sw_prevv(w, fan[i]) : sw_nextv(w, fan[i]));
             if (x != skip && sw_edge_faces(w, v, x) == 1)
                 return x;
         }

@@ -145,7 +145,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
         for (int c = 3 * f; c < 3 * f + 3; c++) {
             if (!sw_corner_on_boundary(w, c))
                 continue;
-            int a = w->tri[c], b = w->nextv[c];
+            int a = w->tri[c], b = sw_nextv(w, c);
             const double *pa = w->pos + 3 * a, *pb = w->pos + 3 * b;
             double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]}, m[3];
             sw_cross(e, u, m);
@@ -166,7 +166,7 @@ static void qem_init_quadrics(qem_t *s, double boundary_weight, bool area_weight
 static void qem_queue(qem_t *s, int id)
 {
     sw_t *w = s->w;
-    int a = w->tri[id], b = w->nextv[id];
+    int a = w->tri[id], b = sw_nextv(w, id);
     double p[3];
     sw_queue_set(&w->queue, id, qem_place(s, a < b ? a : b, a < b ? b : a, p),
                  sw_edge_tie(a, b));
@@ -184,7 +184,7 @@ static void qem_requeue_at(qem_t *s, int v)
     bool cycle = w->fan_kind[v] == SW_FAN_CYCLE;
     if (w->fan_kind[v] == SW_FAN_BROKEN) {   /* cannot happen after a merge; be safe */
         for (int i = 0; i < n; i++) {
-            int c = fan[i], x = w->nextv[c], id = sw_edge_id(w, v, x);
+            int c = fan[i], x = sw_nextv(w, c), id = sw_edge_id(w, v, x);
             int twin = id == c ? sw_find_corner(w, x, v) : c;
             if (twin >= 0 && twin != id)
                 sw_queue_remove(&w->queue, twin);
@@ -195,11 +195,11 @@ static void qem_requeue_at(qem_t *s, int v)
     /* the neighbours' quadrics are scattered through memory: ask for them
      * all before the first is needed */
     for (int i = 0; i < n; i++) {
-        const quadric_t *qx = &s->Q[w->nextv[fan[i]]];
+        const quadric_t *qx = &s->Q[sw_nextv(w, fan[i])];
         __builtin_prefetch(qx->q), __builtin_prefetch(qx->q + 8);
     }
     for (int i = 0; i < n; i++) {
-        int out = fan[i], x = w->nextv[out];
+        int out = fan[i], x = sw_nextv(w, out);
         int in = i > 0 ? sw_prev(fan[i - 1]) : cycle ? sw_prev(fan[n - 1]) : -1;
         int id = v < x || in < 0 ? out : in;
         if (in >= 0)
@@ -217,7 +217,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
         return pp5_fail(PP5_E_NOMEM, "qem: out of memory for quadrics");
     qem_init_quadrics(&s, o->qem_boundary_weight, o->qem_area_weighted);
     for (int c = 0; c < 3 * w->nf; c++) {   /* each edge once, under its canonical id */
-        int a = w->tri[c], b = w->nextv[c];
+        int a = w->tri[c], b = sw_nextv(w, c);
         if (a < b || sw_corner_on_boundary(w, c)) {
             double p[3];
             sw_queue_append(&w->queue, c, qem_place(&s, a < b ? a : b, a < b ? b : a, p),
@@ -229,7 +229,7 @@ pp5_status_t simplify_qem_run(sw_t *w, const mesh_simplify_opts_t *o)
     sw_qentry_t e;
     sw_merge_t m;
     while (st == PP5_OK && w->faces_alive > o->target_faces && sw_queue_pop(&w->queue, &e)) {
-        int a = w->tri[e.id], b = w->nextv[e.id];
+        int a = w->tri[e.id], b = sw_nextv(w, e.id);
         if (a > b) {
             int t = a;
             a = b, b = t;

@@ -99,7 +99,7 @@ static void s001_hood_fan_any(s001_hood_t *h, const s001_t *s, int f, int j)
         int c = fan[i], g = c / 3;
         if (g == f)
             continue;
-        int y = w->nextv[c], z = w->prevv[c];
+        int y = sw_nextv(w, c), z = sw_prevv(w, c);
         int second = t_hi == y || t_hi == z ? hi : t_lo == y || t_lo == z ? lo : -1;
         if (second >= 0 && second < j)
             continue;

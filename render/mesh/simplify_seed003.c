@@ -97,13 +97,13 @@ static bool boundary_ends(const sw_t *w, int v, int nb[2])
     const int32_t *fan = sw_fan(w, v);
     int n = 0;
     if (w->fan_kind[v] == SW_FAN_PATH) {
-        nb[0] = w->nextv[fan[0]];
-        nb[1] = w->prevv[fan[w->fan_n[v] - 1]];
+        nb[0] = sw_nextv(w, fan[0]);
+        nb[1] = sw_prevv(w, fan[w->fan_n[v] - 1]);
         return true;
     }
     for (int i = 0; i < w->fan_n[v] && n < 2; i++)
         for (int k = 0; k < 2 && n < 2; k++) {
-            int x = (k ? w->prevv : w->nextv)[fan[i]];
+            int x = (k ? sw_prevv(w, fan[i]) : sw_nextv(w, fan[i]));
             if ((n == 0 || nb[0] != x) && sw_edge_faces(w, v, x) == 1)
                 nb[n++] = x;
         }
@@ -261,7 +261,7 @@ static void measure_face(s003_t *s, int f)
 {
     const sw_t *w = s->w;
     for (int c = 3 * f; c < 3 * f + 3; c++)
-        s->hot[c].len = dist(w->pos + 3 * w->tri[c], w->pos + 3 * w->nextv[c]);
+        s->hot[c].len = dist(w->pos + 3 * w->tri[c], w->pos + 3 * sw_nextv(w, c));
     for (int c = 3 * f; c < 3 * f + 3; c++) {
         double lmax = max_num(s->hot[sw_prev(c)].len, s->hot[sw_next(c)].len);
         s->hot[c].round = lmax > 0 ? s->hot[c].len / lmax : 0;
@@ -317,10 +317,10 @@ static bool control_function(s003_t *s, int id, int a, int b, const double p[3],
         const int32_t *fan = sw_fan(w, x);
         for (int i = 0; i < w->fan_n[x]; i++) {
             int c = fan[i];
-            if (w->nextv[c] == y || w->prevv[c] == y) {
+            if (sw_nextv(w, c) == y || sw_prevv(w, c) == y) {
                 /* a face of the edge (seen from a): S from its roundness */
                 if (k == 0)
-                    smax = max_num(smax, s->hot[w->nextv[c] == y ? c : sw_prev(c)].round);
+                    smax = max_num(smax, s->hot[sw_nextv(w, c) == y ? c : sw_prev(c)].round);
                 continue;
             }
             if (!face_turn(w, c, p, &cs))
@@ -441,7 +441,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     sw_t *w = s->w;
     if (twin >= 0)
         s003_forget(s, twin);
-    int a = w->tri[id], b = w->nextv[id];
+    int a = w->tri[id], b = sw_nextv(w, id);
     if (a > b) {
         int t = a;
         a = b, b = t;
@@ -466,8 +466,8 @@ static pp5_status_t queue_all_edges(s003_t *s)
             continue;
         if (sw_corner_on_boundary(w, c))
             st = s003_queue(s, c, -1);
-        else if (w->tri[c] < w->nextv[c])   /* canonical; its twin is not queued */
-            st = s003_queue(s, c, sw_find_corner(w, w->nextv[c], w->tri[c]));
+        else if (w->tri[c] < sw_nextv(w, c))   /* canonical; its twin is not queued */
+            st = s003_queue(s, c, sw_find_corner(w, sw_nextv(w, c), w->tri[c]));
     }
     s->bulk = false;
     sw_queue_heapify(&w->queue);
@@ -485,7 +485,7 @@ static pp5_status_t s003_requeue_at(s003_t *s, int x)
     uint8_t kind = w->fan_kind[x];
     pp5_status_t st = PP5_OK;
     for (int i = 0; i < n && st == PP5_OK; i++) {
-        int out = fan[i], y = w->nextv[out], in;
+        int out = fan[i], y = sw_nextv(w, out), in;
         if (kind == SW_FAN_BROKEN)
             in = sw_find_corner(w, y, x);
         else
@@ -547,7 +547,7 @@ static void s003_thaw(s003_t *s)
         if (state == S003_DEFERRED) {
             queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
-            int a = w->tri[id], b = w->nextv[id];
+            int a = w->tri[id], b = sw_nextv(w, id);
             s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
         }
     }
@@ -578,7 +578,7 @@ static pp5_status_t s003_take_top(s003_t *s)
 {
     sw_t *w = s->w;
     sw_qentry_t e = sw_queue_top(&w->queue);
-    int a = w->tri[e.id], b = w->nextv[e.id];
+    int a = w->tri[e.id], b = sw_nextv(w, e.id);
     if (a > b) {
         int t = a;
         a = b, b = t;

@@ -12,8 +12,6 @@ static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
     size_t nv = (size_t)w->nv + 1, nf = (size_t)w->nf + 1;
     w->pos = malloc(sizeof *w->pos * 3 * nv);
     w->tri = malloc(sizeof *w->tri * 3 * nf);
-    w->nextv = malloc(sizeof *w->nextv * 3 * nf);
-    w->prevv = malloc(sizeof *w->prevv * 3 * nf);
     w->face_alive = malloc(nf);
     w->vert_alive = calloc(nv, 1);
     w->fan_kind = calloc(nv, 1);
@@ -24,7 +22,7 @@ static pp5_status_t sw_alloc(sw_t *w, int queue_ids)
     w->fnormal = malloc(sizeof *w->fnormal * 3 * nf);
     w->pool_cap = 3 * nf + 2 * nv + 64;
     w->pool = malloc(sizeof *w->pool * w->pool_cap);
-    if (!w->pos || !w->tri || !w->nextv || !w->prevv || !w->face_alive || !w->vert_alive ||
+    if (!w->pos || !w->tri || !w->face_alive || !w->vert_alive ||
         !w->fan_kind || !w->fan_off || !w->fan_n || !w->fan_cap || !w->rec_id || !w->pool ||
         !w->fnormal)
         return pp5_fail(PP5_E_NOMEM, "simplify: out of memory for %d vertices", w->nv);
@@ -64,7 +62,7 @@ static bool fan_successors_scan(const sw_t *w, const int32_t *fan, int n, const 
 {
     bool unique = true;
     for (int j = 0; j < n; j++) {
-        int z = w->prevv[fan[j]];
+        int z = sw_prevv(w, fan[j]);
         int found = -1;
         for (int i = n - 1; i >= 0; i--)   /* a select, not a branch: matches are unpredictable */
             found = nxt[i] == z ? i : found;
@@ -91,7 +89,7 @@ static bool fan_successors_sorted(const sw_t *w, const int32_t *fan, int n, cons
     for (int i = 1; i < n; i++)
         unique &= nxt[by_next[i - 1]] != nxt[by_next[i]];
     for (int j = 0; j < n; j++) {
-        int z = w->prevv[fan[j]], lo = 0, hi = n;
+        int z = sw_prevv(w, fan[j]), lo = 0, hi = n;
         while (lo < hi) {
             int mid = (lo + hi) / 2;
             if (nxt[by_next[mid]] < z)
@@ -126,7 +124,7 @@ static bool order_fan(sw_t *w, int v)
     bool has_pred[SW_MAX_FAN];
     int lowest = 0;
     for (int i = 0; i < n; i++) {
-        nxt[i] = w->nextv[fan[i]];
+        nxt[i] = sw_nextv(w, fan[i]);
         has_pred[i] = false;
         if (fan[i] < fan[lowest])
             lowest = i;
@@ -198,8 +196,6 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
     }
     memcpy(w->pos, in->pos, sizeof *w->pos * 3 * (size_t)w->nv);
     memcpy(w->tri, in->tri, sizeof *w->tri * 3 * (size_t)w->nf);
-    for (int c = 0; c < 3 * w->nf; c++)
-        w->nextv[c] = w->tri[sw_next(c)], w->prevv[c] = w->tri[sw_prev(c)];
     memset(w->face_alive, 1, (size_t)w->nf);
     w->faces_alive = w->input_faces = w->nf;
     for (int c = 0; c < 3 * w->nf; c++)
@@ -238,7 +234,7 @@ pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
 
 void sw_free(sw_t *w)
 {
-    free(w->pos), free(w->tri), free(w->nextv), free(w->prevv);
+    free(w->pos), free(w->tri);
     free(w->face_alive), free(w->vert_alive), free(w->fan_kind);
     free(w->fan_off), free(w->fan_n), free(w->fan_cap), free(w->pool), free(w->rec_id);
     free(w->fnormal);
@@ -255,11 +251,11 @@ pp5_status_t sw_check_edge_manifold(const sw_t *w, const char *source)
     if (w->manifold)
         return PP5_OK;
     for (int c = 0; c < 3 * w->nf; c++) {
-        int a = w->tri[c], b = w->nextv[c];
+        int a = w->tri[c], b = sw_nextv(w, c);
         int same = 0, faces = sw_edge_faces(w, a, b);
         const int32_t *fan = sw_fan(w, a);
         for (int i = 0; i < w->fan_n[a]; i++)
-            same += w->nextv[fan[i]] == b;
+            same += sw_nextv(w, fan[i]) == b;
         if (a < b && faces > 2)
             return pp5_fail(PP5_E_FORMAT, "%s: edge %d-%d has %d faces (the simplifiers need an "
                             "edge-manifold mesh)", source, a + 1, b + 1, faces);
@@ -284,7 +280,7 @@ int sw_edge_faces(const sw_t *w, int a, int b)
     int n = 0;
     const int32_t *fan = sw_fan(w, a);
     for (int i = 0; i < w->fan_n[a]; i++)
-        n += w->nextv[fan[i]] == b || w->prevv[fan[i]] == b;
+        n += sw_nextv(w, fan[i]) == b || sw_prevv(w, fan[i]) == b;
     return n;
 }
 
@@ -292,7 +288,7 @@ int sw_find_corner(const sw_t *w, int a, int b)
 {
     const int32_t *fan = sw_fan(w, a);
     for (int i = 0; i < w->fan_n[a]; i++)
-        if (w->nextv[fan[i]] == b)
+        if (sw_nextv(w, fan[i]) == b)
             return fan[i];
     return -1;
 }
@@ -304,7 +300,7 @@ bool sw_corner_on_boundary(const sw_t *w, int c)
         return false;
     if (w->fan_kind[v] == SW_FAN_PATH)
         return sw_fan(w, v)[0] == c;
-    return sw_find_corner(w, w->nextv[c], v) < 0;
+    return sw_find_corner(w, sw_nextv(w, c), v) < 0;
 }
 
 bool sw_vertex_on_boundary(const sw_t *w, int v)
@@ -333,12 +329,12 @@ int sw_ring(const sw_t *w, int v, int first, int32_t *ring, int cap)
     const int32_t *fan = sw_fan(w, v);
     int at = -1;
     for (int i = 0; i < n && at < 0; i++)
-        if (w->nextv[fan[i]] == first)
+        if (sw_nextv(w, fan[i]) == first)
             at = i;
     if (at < 0)
         return -1;
     for (int j = 0, i = at; j < n; j++, i = i + 1 < n ? i + 1 : 0)
-        ring[j] = w->nextv[fan[i]];
+        ring[j] = sw_nextv(w, fan[i]);
     return n;
 }
 
@@ -359,7 +355,7 @@ static sw_verdict_t gather_faces(const sw_t *w, const int32_t *S, int k, sw_merg
         const int32_t *fan = sw_fan(w, S[i]);
         for (int j = 0; j < w->fan_n[S[i]]; j++) {
             int c = fan[j], cn = sw_next(c), cp = sw_prev(c);
-            bool yn = in_set(S, k, w->nextv[c]) >= 0, yp = in_set(S, k, w->prevv[c]) >= 0;
+            bool yn = in_set(S, k, sw_nextv(w, c)) >= 0, yp = in_set(S, k, sw_prevv(w, c)) >= 0;
             if (yn || yp) {
                 /* a face shared by several of S is seen once, from the member
                  * at its lowest corner */
@@ -377,8 +373,8 @@ static sw_verdict_t gather_faces(const sw_t *w, const int32_t *S, int k, sw_merg
             }
             if (m->n_keep == SW_MAX_FAN)
                 return SW_TOPOLOGY;
-            src[m->n_keep] = w->nextv[c];
-            dst[m->n_keep] = w->prevv[c];
+            src[m->n_keep] = sw_nextv(w, c);
+            dst[m->n_keep] = sw_prevv(w, c);
             m->keep[m->n_keep++] = c;
         }
     }
@@ -484,21 +480,21 @@ static int edge_link_fast(const sw_t *w, int a, int b, sw_merge_t *m)
     const int32_t *fa = sw_fan(w, a), *fb = sw_fan(w, b);
     int ib = -1, ia = -1;
     for (int i = 0; i < na && ib < 0; i++)
-        if (w->nextv[fa[i]] == b)
+        if (sw_nextv(w, fa[i]) == b)
             ib = i;
     for (int i = 0; i < nb && ia < 0; i++)
-        if (w->nextv[fb[i]] == a)
+        if (sw_nextv(w, fb[i]) == a)
             ia = i;
-    if (ib < 0 || ia < 0 || w->prevv[fa[ib]] == w->prevv[fb[ia]])
+    if (ib < 0 || ia < 0 || sw_prevv(w, fa[ib]) == sw_prevv(w, fb[ia]))
         return -1;
     /* the two fans from the corner after the removed face: corners a_1 ..
      * a_(na-2) and b_1 .. b_(nb-2) stay, and their ring vertices r_1 ..
      * r_(n-1) run o1 .. o2 and o2 .. o1 */
     int32_t ca[SW_MAX_FAN], cb[SW_MAX_FAN], ra[SW_MAX_FAN], rb[SW_MAX_FAN];
     for (int i = 0, k = ib; i < na; i++, k = k + 1 < na ? k + 1 : 0)
-        ca[i] = fa[k], ra[i] = w->nextv[fa[k]];
+        ca[i] = fa[k], ra[i] = sw_nextv(w, fa[k]);
     for (int i = 0, k = ia; i < nb; i++, k = k + 1 < nb ? k + 1 : 0)
-        cb[i] = fb[k], rb[i] = w->nextv[fb[k]];
+        cb[i] = fb[k], rb[i] = sw_nextv(w, fb[k]);
     for (int i = 2; i <= na - 2; i++)   /* inner vertices must differ */
         for (int j = 2; j <= nb - 2; j++)
             if (ra[i] == rb[j])
@@ -519,7 +515,7 @@ static int edge_link_fast(const sw_t *w, int a, int b, sw_merge_t *m)
         seq[q++] = cb[i];
     for (int i = 0, k = lead; i < n; i++, k = k + 1 < n ? k + 1 : 0) {
         m->keep[i] = seq[k];
-        m->ring[i] = w->nextv[seq[k]];
+        m->ring[i] = sw_nextv(w, seq[k]);
     }
     m->n_keep = m->n_ring = n;
     m->n_removed = 2;
@@ -542,9 +538,11 @@ sw_verdict_t sw_test_merge(const sw_t *w, const int32_t *S, int k, const double 
     }
     if (v != SW_OK)
         return v;
-    for (int i = 0; i < m->n_keep; i++)   /* the one corner of each face in S moves to p */
-        if (!sw_face_turn(w, m->keep[i], p, m->n_new[i], &m->turn_dot[i], &m->turn_len2[i]))
+    for (int i = 0; i < m->n_keep; i++) {   /* the one corner of each face in S moves to p */
+        double n_new[3], dot, len2;
+        if (!sw_face_turn(w, m->keep[i], p, n_new, &dot, &len2))
             return SW_FOLD;
+    }
     return SW_OK;
 }
 
@@ -663,11 +661,8 @@ pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
     if (w->recording)
         record_steps(w, S, k, p, m);
     remove_faces(w, S, k, m);
-    for (int i = 0; i < m->n_keep; i++) {
-        int c = m->keep[i];
-        w->tri[c] = S[0];
-        w->nextv[sw_prev(c)] = S[0], w->prevv[sw_next(c)] = S[0];
-    }
+    for (int i = 0; i < m->n_keep; i++)
+        w->tri[m->keep[i]] = S[0];
     pp5_status_t st = fan_set(w, S[0], m->keep, m->n_keep);
     if (st != PP5_OK)
         return st;
@@ -690,8 +685,6 @@ pp5_status_t sw_apply_merge(sw_t *w, const int32_t *S, int k, const double p[3],
         w->fan_kind[S[i]] = SW_FAN_BROKEN;
     }
     memcpy(w->pos + 3 * S[0], p, 3 * sizeof *p);
-    for (int i = 0; i < m->n_keep; i++)   /* the faces that moved */
-        memcpy(w->fnormal + 3 * (m->keep[i] / 3), m->n_new[i], 3 * sizeof *p);
     w->verts_alive -= k - 1;
     w->step += k - 1;
     if (w->stats)

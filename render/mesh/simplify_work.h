@@ -6,8 +6,9 @@
  * Layout (render/mesh/ARCHITECTURE.md, "Speed"): corner c = 3 f + k is vertex
  * tri[c] of face f; the face is (tri[c], tri[sw_next(c)], tri[sw_prev(c)])
  * counter-clockwise, and corner c also names the directed edge
- * tri[c] -> tri[sw_next(c)]; nextv and prevv keep the other two vertices of
- * every corner at hand (no index arithmetic, one load).  Each vertex keeps the corners at it in
+ * tri[c] -> tri[sw_next(c)] (sw_nextv, sw_prevv: a face's three vertices
+ * share one cache line, which the simplifiers' random walks over the mesh
+ * miss far more often than they pay for the index arithmetic).  Each vertex keeps the corners at it in
  * counter-clockwise order (a cycle inside, a path starting at the boundary
  * on the boundary), so its ring, valence and the third vertex of any of its
  * faces are read off in O(valence) without searching faces.  The queue holds
@@ -23,13 +24,14 @@
 
 #define SW_MAX_FAN 256     /* faces around a merge; larger neighbourhoods are refused */
 
+/* Corner ids are never negative: the unsigned remainder needs no sign fix. */
 static inline int sw_next(int c)
 {
-    return c % 3 == 2 ? c - 2 : c + 1;
+    return (unsigned)c % 3u == 2 ? c - 2 : c + 1;
 }
 static inline int sw_prev(int c)
 {
-    return c % 3 == 0 ? c + 2 : c - 1;
+    return (unsigned)c % 3u == 0 ? c + 2 : c - 1;
 }
 
 /* How the corners at a vertex fit together. */
@@ -87,15 +89,10 @@ static inline uint64_t sw_edge_tie(int a, int b)
 }
 
 /* What a merge test found: the surviving faces (as their corner at the
- * merged set, in fan order, with their normals after the merge) and the
- * removed ones. */
+ * merged set, in fan order) and the removed ones. */
 typedef struct {
     int n_keep, n_removed;
     int32_t keep[SW_MAX_FAN], removed[SW_MAX_FAN];
-    double n_new[SW_MAX_FAN][3];
-    /* n_old . n_new and |n_old|^2 |n_new|^2 per kept face (n_old: its normal
-     * before): the cosine of its turn is turn_dot / sqrt(turn_len2) */
-    double turn_dot[SW_MAX_FAN], turn_len2[SW_MAX_FAN];
     int n_ring;
     int32_t ring[SW_MAX_FAN + 1]; /* the link vertices (the new vertex's neighbours), in order */
     bool boundary;                /* the new vertex lies on a boundary */
@@ -106,8 +103,7 @@ typedef enum { SW_OK, SW_TOPOLOGY, SW_FOLD } sw_verdict_t;
 typedef struct {
     int nv, nf, faces_alive, input_faces;
     double *pos;
-    int32_t *tri;
-    int32_t *nextv, *prevv;              /* per corner: tri[sw_next(c)], tri[sw_prev(c)] */
+    int32_t *tri;                        /* per corner: its vertex */
     uint8_t *face_alive, *vert_alive;
     uint8_t *fan_kind;                   /* SW_FAN_* per vertex */
     int32_t *fan_off, *fan_n, *fan_cap;  /* per vertex: corners in pool[off .. off+n) */
@@ -115,7 +111,8 @@ typedef struct {
     size_t pool_n, pool_cap;
     int32_t *rec_id;                     /* vertex slot -> record vertex id */
     bool manifold;                       /* no edge direction twice at any vertex (input) */
-    double *fnormal;                     /* per face: sw_face_normal, kept current */
+    double *fnormal;                     /* per face: sw_face_normal at sw_init (not kept
+                                            current: read before the first merge only) */
     double fold_cos_min;
     sw_queue_t queue;
     /* the record being built */
@@ -127,6 +124,17 @@ typedef struct {
     int r_levels, r_level_cap, step, verts_alive;
     mesh_simplify_stats_t *stats;
 } sw_t;
+
+/* The other two vertices of corner c's face: the head of the edge c names,
+ * and the vertex before c. */
+static inline int sw_nextv(const sw_t *w, int c)
+{
+    return w->tri[sw_next(c)];
+}
+static inline int sw_prevv(const sw_t *w, int c)
+{
+    return w->tri[sw_prev(c)];
+}
 
 /* queue_ids: how many ids the candidate queue takes (3 nf for edges, nf for faces). */
 pp5_status_t sw_init(sw_t *w, const mesh_t *in, bool recording, int queue_ids,
@@ -213,10 +221,14 @@ static inline bool sw_face_turn(const sw_t *w, int c, const double p[3], double 
 {
     int f = c / 3, at = c - 3 * f;
     const int32_t *tv = w->tri + 3 * f;
-    const double *q0 = at == 0 ? p : w->pos + 3 * tv[0];
-    const double *q1 = at == 1 ? p : w->pos + 3 * tv[1];
-    const double *q2 = at == 2 ? p : w->pos + 3 * tv[2];
-    const double *n_old = w->fnormal + 3 * f;
+    const double *o0 = w->pos + 3 * tv[0], *o1 = w->pos + 3 * tv[1], *o2 = w->pos + 3 * tv[2];
+    const double *q0 = at == 0 ? p : o0, *q1 = at == 1 ? p : o1, *q2 = at == 2 ? p : o2;
+    /* The normal before the move, from the positions the new one reads
+     * anyway (sw_face_normal's expression, so the same doubles): a cached
+     * normal per face cost a cold cache line per face tested. */
+    double uo[3] = {o1[0] - o0[0], o1[1] - o0[1], o1[2] - o0[2]};
+    double to[3] = {o2[0] - o0[0], o2[1] - o0[1], o2[2] - o0[2]}, n_old[3];
+    sw_cross(uo, to, n_old);
     double u[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
     double t[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
     sw_cross(u, t, n_new);
