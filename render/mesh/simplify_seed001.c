@@ -22,11 +22,13 @@
 #include "simplify_work.h"
 
 /* What an evaluation reads of a face, in one cache line: its unit normal n,
- * plane offset -n.p0 and area, and its vertices. */
+ * plane offset -n.p0 and area, its vertices, and where each of its corners
+ * sits in its vertex's fan (so a walk needs no search for f). */
 typedef struct {
     _Alignas(64) double n[3];
     double offset, area;
     int32_t v[3];
+    int32_t at[3];   /* corner 3f + j is sw_fan(w, v[j])[at[j]] */
 } s001_face_t;
 
 typedef struct {
@@ -52,6 +54,15 @@ static void s001_face_update(s001_t *s, int f)
     memcpy(fc->n, n, sizeof n);
     fc->offset = -sw_dot(n, w->pos + 3 * w->tri[3 * f]);
     memcpy(fc->v, w->tri + 3 * f, sizeof fc->v);
+}
+
+/* Records where each corner of u's fan sits (after the fan was built or
+ * changed). */
+static void s001_index_fan(s001_t *s, int u)
+{
+    const int32_t *fan = sw_fan(s->w, u);
+    for (int i = 0; i < s->w->fan_n[u]; i++)
+        s->face[fan[i] / 3].at[fan[i] % 3] = i;
 }
 
 static uint32_t s001_next_epoch(s001_t *s)
@@ -107,7 +118,7 @@ static void s001_hood_fan_any(s001_hood_t *h, const s001_t *s, int f, int j)
     }
 }
 
-/* The running sums of one fan walk, kept in registers. */
+/* The running sums of an interior neighbourhood, kept in registers. */
 typedef struct {
     const double *n0;
     double lam_j, sum_w, max_w, area_sum;
@@ -146,64 +157,70 @@ static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
     return counts ? s001_walk_add(r, faces + (unsigned)fan[i] / 3, 0.5) : 0;
 }
 
-/* The faces at f's vertex j when its fan is interior and f is not
- * degenerate (the same sums as s001_hood_fan_any, in the same order): the
- * fan's rotational order with distinct ring vertices puts the two faces
- * sharing an edge with f either side of f's corner 3f + j, and no other
- * face holds f's other vertices, so positions alone tell the neighbours
- * apart and the faces between them are summed in plain loops, with no
- * comparison per face.  False if f's corner is not in the fan (the general
- * walk decides then). */
-static inline bool s001_hood_fan_cycle(s001_hood_t *h, const s001_t *s, int f, const int j)
+/* Walk j over the interior fan of f's vertex j (n faces, f's corner at
+ * position p), in fan order from the fan's canonical start, without f.
+ * The rotational order with distinct ring vertices puts the two faces
+ * sharing an edge with f either side of f's corner (the one after holds
+ * f's vertex j + 2, the one before j + 1) and no other face of the fan
+ * holds f's other vertices, so positions alone tell the neighbours apart
+ * and the rest are summed in plain loops.  An edge-neighbour counts in the
+ * walk of the lower of its two vertices of f: walk 0 counts both, walk 1
+ * the one before, walk 2 neither.  Returns lambda_j; the counted
+ * edge-neighbours' weights go to wt_after and wt_before. */
+__attribute__((always_inline)) static inline double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const int32_t *fan,
+                                   int n, int p, const int j, double lam_j, double *wt_after,
+                                   double *wt_before)
 {
-    const sw_t *w = s->w;
-    int u = s->face[f].v[j], n = w->fan_n[u], me = 3 * f + j, p = 0;
-    const int32_t *fan = sw_fan(w, u);
-    while (p < n && fan[p] != me)
-        p++;
-    if (p == n || h->k + n > 3 * SW_MAX_FAN)
-        return false;
-    /* the face after f's corner holds f's vertex j + 2, the one before
-     * j + 1; an edge-neighbour through an earlier vertex of f counted there,
-     * and no other face of this fan adds to the later vertex's lambda */
-    const int s_after = j == 0 ? 2 : j - 1, s_before = j == 2 ? 0 : j + 1;
-    int after = p + 1 == n ? 0 : p + 1, before = p == 0 ? n - 1 : p - 1;
-    const s001_face_t *faces = s->face;
-    double wt_after, wt_before;
-    s001_walk_t r = {h->n0, h->lam[j], h->sum_w, h->max_w, h->area_sum, h->nb, h->k};
-    bool count_after = s_after > j, count_before = s_before > j;
+    const bool count_after = j == 0, count_before = j < 2;
+    r->lam_j = lam_j;
     if (p == 0) {
-        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
-        s001_walk_range(&r, faces, fan, 2, n - 1);
-        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+        *wt_after = s001_walk_edge(r, faces, fan, 1, count_after);
+        s001_walk_range(r, faces, fan, 2, n - 1);
+        *wt_before = s001_walk_edge(r, faces, fan, n - 1, count_before);
     } else if (p == n - 1) {
-        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
-        s001_walk_range(&r, faces, fan, 1, n - 2);
-        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
+        *wt_after = s001_walk_edge(r, faces, fan, 0, count_after);
+        s001_walk_range(r, faces, fan, 1, n - 2);
+        *wt_before = s001_walk_edge(r, faces, fan, n - 2, count_before);
     } else {
-        s001_walk_range(&r, faces, fan, 0, p - 1);
-        wt_before = s001_walk_edge(&r, faces, fan, before, count_before);
-        wt_after = s001_walk_edge(&r, faces, fan, after, count_after);
-        s001_walk_range(&r, faces, fan, p + 2, n);
+        s001_walk_range(r, faces, fan, 0, p - 1);
+        *wt_before = s001_walk_edge(r, faces, fan, p - 1, count_before);
+        *wt_after = s001_walk_edge(r, faces, fan, p + 1, count_after);
+        s001_walk_range(r, faces, fan, p + 2, n);
     }
-    if (count_after)
-        h->lam[s_after] += 0.5 * wt_after;
-    if (count_before)
-        h->lam[s_before] += 0.5 * wt_before;
-    h->lam[j] = r.lam_j, h->sum_w = r.sum_w, h->max_w = r.max_w, h->area_sum = r.area_sum;
-    h->k = r.k;
-    return true;
+    return r->lam_j;
 }
 
-/* The faces at f's vertex j, by position where the fan allows it. */
-static inline void s001_hood_fan(s001_hood_t *h, const s001_t *s, int f, const int j,
-                                 bool distinct)
+/* f's neighbourhood when all three of its fans are interior cycles and its
+ * vertices distinct: the same sums in the same order as s001_hood_fan_any
+ * (an edge-neighbour's other half reaches the later vertex's lambda before
+ * that vertex's walk adds anything).  False otherwise, or if a recorded fan
+ * position is not f's corner (the general walk decides then). */
+static bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
 {
     const sw_t *w = s->w;
-    int u = s->face[f].v[j];
-    if (!distinct || w->fan_kind[u] != SW_FAN_CYCLE || w->fan_n[u] < 3 ||
-        !s001_hood_fan_cycle(h, s, f, j))
-        s001_hood_fan_any(h, s, f, j);
+    const s001_face_t *fc = s->face + f, *faces = s->face;
+    const int32_t *t = fc->v;
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+        return false;
+    const int32_t *fan[3];
+    int n[3];
+    for (int j = 0; j < 3; j++) {
+        int u = t[j];
+        n[j] = w->fan_n[u], fan[j] = sw_fan(w, u);
+        if (w->fan_kind[u] != SW_FAN_CYCLE || n[j] < 3 || n[j] > SW_MAX_FAN ||
+            fc->at[j] >= n[j] || fan[j][fc->at[j]] != 3 * f + j)
+            return false;
+    }
+    s001_walk_t r = {h->n0, 0, 0, 0, h->area_sum, h->nb, 0};
+    double after0, before0, after1, before1, after2, before2;
+    h->lam[0] = s001_walk_fan(&r, faces, fan[0], n[0], fc->at[0], 0, 0.0, &after0, &before0);
+    h->lam[1] = s001_walk_fan(&r, faces, fan[1], n[1], fc->at[1], 1, 0.5 * before0, &after1,
+                              &before1);
+    h->lam[2] = s001_walk_fan(&r, faces, fan[2], n[2], fc->at[2], 2,
+                              0.5 * after0 + 0.5 * before1, &after2, &before2);
+    h->sum_w = r.sum_w, h->max_w = r.max_w, h->area_sum = r.area_sum;
+    h->k = r.k;
+    return true;
 }
 
 /* The collapse point and cost of face f; false if f may not collapse. */
@@ -222,10 +239,11 @@ static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
     s001_hood_t h;
     h.n0 = f0->n, h.sum_w = 0, h.max_w = 0, h.area_sum = a0;
     h.lam[0] = h.lam[1] = h.lam[2] = 0, h.k = 0;
-    bool distinct = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-    s001_hood_fan(&h, s, f, 0, distinct);
-    s001_hood_fan(&h, s, f, 1, distinct);
-    s001_hood_fan(&h, s, f, 2, distinct);
+    if (!s001_hood_interior(&h, s, f)) {
+        s001_hood_fan_any(&h, s, f, 0);
+        s001_hood_fan_any(&h, s, f, 1);
+        s001_hood_fan_any(&h, s, f, 2);
+    }
     double *lam = h.lam, sum_w = h.sum_w;
     int k = h.k;
     if (pinned >= 0) {
@@ -276,6 +294,12 @@ static void s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     const int32_t *vfan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
         s001_face_update(s, vfan[i] / 3);
+    /* the fans that changed: v's, and those that lost a removed face */
+    s001_index_fan(s, v);
+    for (int r = 0; r < m->n_removed; r++)
+        for (int c = 3 * m->removed[r]; c < 3 * m->removed[r] + 3; c++)
+            if (w->tri[c] != v)
+                s001_index_fan(s, w->tri[c]);
     uint32_t ep = s001_next_epoch(s);
     int32_t faces[4 * SW_MAX_FAN];
     int nf = 0;
@@ -304,6 +328,8 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
         s.on_boundary[v] = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
     for (int f = 0; f < w->nf; f++)
         s001_face_update(&s, f);
+    for (int v = 0; v < w->nv; v++)
+        s001_index_fan(&s, v);
     for (int f = 0; f < w->nf; f++)
         s001_queue(&s, f);
     pp5_status_t st = PP5_OK;
