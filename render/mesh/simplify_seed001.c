@@ -21,6 +21,11 @@
 
 #include "simplify_work.h"
 
+/* Inlined whatever the compiler's size limits say: the fan walks are the
+ * hot loop, and only inlined do their constant arguments fold away and
+ * their running sums stay in registers. */
+#define S001_INLINE static inline __attribute__((always_inline))
+
 /* What an evaluation reads of a face, in one cache line: its unit normal n,
  * plane offset -n.p0 and area, its vertices, and where each of its corners
  * sits in its vertex's fan (so a walk needs no search for f). */
@@ -37,6 +42,11 @@ typedef struct {
     uint8_t *on_boundary;   /* per vertex, kept current */
     uint32_t *mark, epoch;  /* per face, for de-duplicating neighbourhoods */
     s001_face_t *face;      /* per face, kept current for the faces alive */
+    /* w->pool's twin: the face of each corner there (so a walk reads a
+     * neighbour's record without dividing its corner by 3); current for
+     * every fan whose places are recorded */
+    int32_t *fan_face;
+    size_t fan_face_cap;
 } s001_t;
 
 /* Renews f's record from the working mesh (after f was built or moved). */
@@ -56,13 +66,30 @@ static void s001_face_update(s001_t *s, int f)
     memcpy(fc->v, w->tri + 3 * f, sizeof fc->v);
 }
 
-/* Records where each corner of u's fan sits (after the fan was built or
- * changed). */
+/* Records u's fan in fan_face and where each of its corners sits (after
+ * the fan was built or changed). */
 static void s001_index_fan(s001_t *s, int u)
 {
     const int32_t *fan = sw_fan(s->w, u);
-    for (int i = 0; i < s->w->fan_n[u]; i++)
+    int32_t *fan_face = s->fan_face + s->w->fan_off[u];
+    for (int i = 0; i < s->w->fan_n[u]; i++) {
+        fan_face[i] = fan[i] / 3;
         s->face[fan[i] / 3].at[fan[i] % 3] = i;
+    }
+}
+
+/* fan_face grows with w->pool (a fan that outgrew its place moved to the
+ * pool's end). */
+static pp5_status_t s001_fit_fan_face(s001_t *s)
+{
+    if (s->fan_face_cap >= s->w->pool_cap)
+        return PP5_OK;
+    int32_t *grown = realloc(s->fan_face, sizeof *grown * s->w->pool_cap);
+    if (!grown)
+        return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
+    s->fan_face = grown;
+    s->fan_face_cap = s->w->pool_cap;
+    return PP5_OK;
 }
 
 static uint32_t s001_next_epoch(s001_t *s)
@@ -139,14 +166,13 @@ static inline double s001_walk_add(s001_walk_t *r, const s001_face_t *g, double 
     return wt;
 }
 
-/* The faces of fan[a .. b): vertex-neighbours, the whole weight to the fan's
- * vertex.  Corners are never negative, and the unsigned division by 3 is
- * the cheaper one. */
+/* The faces of fan[a .. b) (fan: the fan's faces, fan_face): vertex-neighbours,
+ * the whole weight to the fan's vertex. */
 static inline void s001_walk_range(s001_walk_t *r, const s001_face_t *faces,
                                    const int32_t *fan, int a, int b)
 {
     for (int i = a; i < b; i++)
-        s001_walk_add(r, faces + (unsigned)fan[i] / 3, 1.0);
+        s001_walk_add(r, faces + fan[i], 1.0);
 }
 
 /* The edge-neighbour at fan[i], half its weight to the fan's vertex, if it
@@ -154,7 +180,7 @@ static inline void s001_walk_range(s001_walk_t *r, const s001_face_t *faces,
 static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
                                     const int32_t *fan, int i, bool counts)
 {
-    return counts ? s001_walk_add(r, faces + (unsigned)fan[i] / 3, 0.5) : 0;
+    return counts ? s001_walk_add(r, faces + fan[i], 0.5) : 0;
 }
 
 /* Walk j over the interior fan of f's vertex j (n faces, f's corner at
@@ -167,9 +193,9 @@ static inline double s001_walk_edge(s001_walk_t *r, const s001_face_t *faces,
  * walk of the lower of its two vertices of f: walk 0 counts both, walk 1
  * the one before, walk 2 neither.  Returns lambda_j; the counted
  * edge-neighbours' weights go to wt_after and wt_before. */
-__attribute__((always_inline)) static inline double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const int32_t *fan,
-                                   int n, int p, const int j, double lam_j, double *wt_after,
-                                   double *wt_before)
+S001_INLINE double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const int32_t *fan,
+                                 int n, int p, const int j, double lam_j, double *wt_after,
+                                 double *wt_before)
 {
     const bool count_after = j == 0, count_before = j < 2;
     r->lam_j = lam_j;
@@ -206,9 +232,9 @@ static bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
     int n[3];
     for (int j = 0; j < 3; j++) {
         int u = t[j];
-        n[j] = w->fan_n[u], fan[j] = sw_fan(w, u);
+        n[j] = w->fan_n[u], fan[j] = s->fan_face + w->fan_off[u];
         if (w->fan_kind[u] != SW_FAN_CYCLE || n[j] < 3 || n[j] > SW_MAX_FAN ||
-            fc->at[j] >= n[j] || fan[j][fc->at[j]] != 3 * f + j)
+            fc->at[j] >= n[j] || sw_fan(w, u)[fc->at[j]] != 3 * f + j)
             return false;
     }
     s001_walk_t r = {h->n0, 0, 0, 0, h->area_sum, h->nb, 0};
@@ -281,9 +307,12 @@ static void s001_queue(s001_t *s, int f)
 
 /* After a collapse at v: v's faces moved; every face touching v or its ring
  * has a new neighbourhood, so their boundary flags and costs are renewed. */
-static void s001_refresh(s001_t *s, int v, const sw_merge_t *m)
+static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
 {
     sw_t *w = s->w;
+    pp5_status_t st = s001_fit_fan_face(s);
+    if (st != PP5_OK)
+        return st;
     int32_t verts[SW_MAX_FAN + 2];
     int nv = 0;
     verts[nv++] = v;
@@ -313,15 +342,17 @@ static void s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     }
     for (int i = 0; i < nf; i++)
         s001_queue(s, faces[i]);
+    return PP5_OK;
 }
 
 pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
     s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, 1),
                 calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0,
-                aligned_alloc(_Alignof(s001_face_t), sizeof(s001_face_t) * ((size_t)w->nf + 1))};
-    if (!s.on_boundary || !s.mark || !s.face) {
-        free(s.on_boundary), free(s.mark), free(s.face);
+                aligned_alloc(_Alignof(s001_face_t), sizeof(s001_face_t) * ((size_t)w->nf + 1)),
+                NULL, 0};
+    if (!s.on_boundary || !s.mark || !s.face || s001_fit_fan_face(&s) != PP5_OK) {
+        free(s.on_boundary), free(s.mark), free(s.face), free(s.fan_face);
         return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
     }
     for (int v = 0; v < w->nv; v++)
@@ -344,10 +375,11 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
             continue;
         st = sw_apply_merge(w, S, 3, v0, &m);
         if (st == PP5_OK)
-            s001_refresh(&s, S[0], &m);
+            st = s001_refresh(&s, S[0], &m);
     }
     free(s.on_boundary);
     free(s.mark);
     free(s.face);
+    free(s.fan_face);
     return st;
 }
