@@ -26,6 +26,18 @@
  * their running sums stay in registers. */
 #define S001_INLINE static inline __attribute__((always_inline))
 
+/* The evaluation is compiled twice, for AVX2 and for any x86-64, and the
+ * loader picks the copy the host runs best (GCC on x86-64; PP5_NO_CLONES
+ * keeps one).  Both do the same double operations in the same order (no
+ * fused multiply-add: ISO C mode does not contract, and neither copy
+ * enables FMA), so every cost is the same bits on any host; the AVX2 copy
+ * needs fewer instructions (three-operand forms, wider vectors). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(PP5_NO_CLONES)
+#define S001_CLONED __attribute__((target_clones("avx2", "default")))
+#else
+#define S001_CLONED
+#endif
+
 /* What an evaluation reads of a face, in one cache line: its unit normal n,
  * plane offset -n.p0 and area, its vertices, and where each of its corners
  * sits in its vertex's fan (so a walk needs no search for f). */
@@ -221,7 +233,7 @@ S001_INLINE double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const
  * (an edge-neighbour's other half reaches the later vertex's lambda before
  * that vertex's walk adds anything).  False otherwise, or if a recorded fan
  * position is not f's corner (the general walk decides then). */
-static bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
+S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
 {
     const sw_t *w = s->w;
     const s001_face_t *fc = s->face + f, *faces = s->face;
@@ -250,7 +262,7 @@ static bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
 }
 
 /* The collapse point and cost of face f; false if f may not collapse. */
-static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
+S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
 {
     const sw_t *w = s->w;
     const int32_t *t = s->face[f].v;
