@@ -114,12 +114,12 @@ static uint32_t s001_next_epoch(s001_t *s)
 }
 
 /* A face's neighbourhood as it is summed: eqs. (1)-(3) and (6)-(7)'s sums,
- * and the neighbours for eq. (5). */
+ * and the neighbours for eq. (5) (room for a vector's padding after them). */
 typedef struct {
     const double *n0;
     double sum_w, max_w, area_sum, lam[3];
     int k;
-    const s001_face_t *nb[3 * SW_MAX_FAN];
+    const s001_face_t *nb[3 * SW_MAX_FAN + 4];
 } s001_hood_t;
 
 /* Neighbour g of f shares f's vertex j and, if second >= 0, that one too. */
@@ -261,6 +261,60 @@ S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
     return true;
 }
 
+/* Four doubles side by side (GCC's vector extension: AVX2 lanes in that
+ * copy of the evaluation, SSE2 pairs in the other). */
+typedef double s001_v4 __attribute__((vector_size(32)));
+#if defined(__clang__)
+#define S001_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+typedef int64_t s001_v4_index __attribute__((vector_size(32)));
+#define S001_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, (s001_v4_index){i0, i1, i2, i3})
+#endif
+
+/* The first 32 bytes of four face records (unit normal and offset) as four
+ * vectors: the normals' x, y and z, and the offsets. */
+S001_INLINE void s001_transpose(const s001_face_t *const *g, s001_v4 *x, s001_v4 *y, s001_v4 *z,
+                                s001_v4 *offset)
+{
+    const s001_v4 r0 = *(const s001_v4 *)g[0]->n, r1 = *(const s001_v4 *)g[1]->n,
+                  r2 = *(const s001_v4 *)g[2]->n, r3 = *(const s001_v4 *)g[3]->n;
+    s001_v4 xz01 = S001_SHUFFLE(r0, r1, 0, 4, 2, 6), yd01 = S001_SHUFFLE(r0, r1, 1, 5, 3, 7);
+    s001_v4 xz23 = S001_SHUFFLE(r2, r3, 0, 4, 2, 6), yd23 = S001_SHUFFLE(r2, r3, 1, 5, 3, 7);
+    *x = S001_SHUFFLE(xz01, xz23, 0, 1, 4, 5), *z = S001_SHUFFLE(xz01, xz23, 2, 3, 6, 7);
+    *y = S001_SHUFFLE(yd01, yd23, 0, 1, 4, 5), *offset = S001_SHUFFLE(yd01, yd23, 2, 3, 6, 7);
+}
+
+/* The squared distances from p to the planes of four records, computed
+ * as sw_dot(n, p) + offset, squared, lane by lane. */
+S001_INLINE void s001_plane_errors(const s001_face_t *const *g, const s001_v4 p[3], s001_v4 *e2)
+{
+    s001_v4 x, y, z, offset;
+    s001_transpose(g, &x, &y, &z, &offset);
+    s001_v4 e = x * p[0] + y * p[1] + z * p[2] + offset;
+    *e2 = e * e;
+}
+
+/* Eq. (5): the largest squared distance from v0 to the planes of nb[0 ..
+ * k), four planes at a time but the maximum taken in list order, as one
+ * plane at a time would (the same bits even where a NaN came in).  The
+ * last four are padded with the last plane: taking a value into the
+ * maximum a second time right after the first changes nothing. */
+S001_INLINE double s001_largest_plane_error(const s001_face_t **nb, int k, const double v0[3])
+{
+    if (k == 0)
+        return 0;
+    nb[k] = nb[k + 1] = nb[k + 2] = nb[k - 1];
+    const s001_v4 p[3] = {{v0[0], v0[0], v0[0], v0[0]}, {v0[1], v0[1], v0[1], v0[1]},
+                          {v0[2], v0[2], v0[2], v0[2]}};
+    double largest = 0;
+    for (int i = 0; i < k; i += 4) {
+        s001_v4 e;
+        s001_plane_errors(nb + i, p, &e);
+        largest = sw_max(sw_max(sw_max(sw_max(largest, e[0]), e[1]), e[2]), e[3]);
+    }
+    return largest;
+}
+
 /* The collapse point and cost of face f; false if f may not collapse. */
 S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
 {
@@ -296,11 +350,7 @@ S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *co
     for (int c = 0; c < 3; c++)
         v0[c] = lam[0] * w->pos[3 * t[0] + c] + lam[1] * w->pos[3 * t[1] + c] +
                 lam[2] * w->pos[3 * t[2] + c];
-    double delta = 0;   /* eq. (5): the largest, not the summed, plane error */
-    for (int i = 0; i < k; i++) {
-        double e = sw_dot(h.nb[i]->n, v0) + h.nb[i]->offset;
-        delta = sw_max(delta, e * e);
-    }
+    double delta = s001_largest_plane_error(h.nb, k, v0);
     double lar = h.area_sum > 0 ? a0 / h.area_sum : 0;          /* eq. (6) */
     double lri = k > 0 ? sum_w / k + h.max_w : 0;               /* eq. (7) */
     *cost = s->cost == SEED001_COST_EQ5 ? delta
