@@ -48,10 +48,18 @@ typedef struct {
     int32_t at[3];   /* corner 3f + j is sw_fan(w, v[j])[at[j]] */
 } s001_face_t;
 
+/* What an evaluation reads of a vertex, in one record: where its fan's
+ * faces are in fan_face, how many, whether the walk by position applies
+ * (an interior cycle of 3 .. SW_MAX_FAN faces), and the boundary flag. */
+typedef struct {
+    int32_t fan, n;
+    uint8_t cycle, on_boundary;
+} s001_vertex_t;
+
 typedef struct {
     sw_t *w;
     seed001_cost_t cost;
-    uint8_t *on_boundary;   /* per vertex, kept current */
+    s001_vertex_t *vert;    /* per vertex: fan fields as fan_face, on_boundary kept current */
     uint32_t *mark, epoch;  /* per face, for de-duplicating neighbourhoods */
     s001_face_t *face;      /* per face, kept current for the faces alive */
     /* w->pool's twin: the face of each corner there (so a walk reads a
@@ -82,9 +90,13 @@ static void s001_face_update(s001_t *s, int f)
  * the fan was built or changed). */
 static void s001_index_fan(s001_t *s, int u)
 {
-    const int32_t *fan = sw_fan(s->w, u);
-    int32_t *fan_face = s->fan_face + s->w->fan_off[u];
-    for (int i = 0; i < s->w->fan_n[u]; i++) {
+    const sw_t *w = s->w;
+    const int32_t *fan = sw_fan(w, u);
+    int32_t *fan_face = s->fan_face + w->fan_off[u];
+    s001_vertex_t *vr = s->vert + u;
+    vr->fan = w->fan_off[u], vr->n = w->fan_n[u];
+    vr->cycle = w->fan_kind[u] == SW_FAN_CYCLE && vr->n >= 3 && vr->n <= SW_MAX_FAN;
+    for (int i = 0; i < w->fan_n[u]; i++) {
         fan_face[i] = fan[i] / 3;
         s->face[fan[i] / 3].at[fan[i] % 3] = i;
     }
@@ -232,10 +244,9 @@ S001_INLINE double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const
  * vertices distinct: the same sums in the same order as s001_hood_fan_any
  * (an edge-neighbour's other half reaches the later vertex's lambda before
  * that vertex's walk adds anything).  False otherwise, or if a recorded fan
- * position is not f's corner (the general walk decides then). */
+ * place does not hold f (the general walk decides then). */
 S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
 {
-    const sw_t *w = s->w;
     const s001_face_t *fc = s->face + f, *faces = s->face;
     const int32_t *t = fc->v;
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
@@ -243,10 +254,9 @@ S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
     const int32_t *fan[3];
     int n[3];
     for (int j = 0; j < 3; j++) {
-        int u = t[j];
-        n[j] = w->fan_n[u], fan[j] = s->fan_face + w->fan_off[u];
-        if (w->fan_kind[u] != SW_FAN_CYCLE || n[j] < 3 || n[j] > SW_MAX_FAN ||
-            fc->at[j] >= n[j] || sw_fan(w, u)[fc->at[j]] != 3 * f + j)
+        const s001_vertex_t *vr = s->vert + t[j];
+        n[j] = vr->n, fan[j] = s->fan_face + vr->fan;
+        if (!vr->cycle || fc->at[j] >= n[j] || fan[j][fc->at[j]] != f)
             return false;
     }
     s001_walk_t r = {h->n0, 0, 0, 0, h->area_sum, h->nb, 0};
@@ -322,7 +332,7 @@ S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *co
     const int32_t *t = s->face[f].v;
     int n_boundary = 0, pinned = -1;
     for (int j = 0; j < 3; j++)
-        if (s->on_boundary[t[j]])
+        if (s->vert[t[j]].on_boundary)
             n_boundary++, pinned = j;
     if (n_boundary >= 2)
         return false;
@@ -381,7 +391,7 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     for (int i = 0; i < m->n_ring; i++)
         verts[nv++] = m->ring[i];
     for (int i = 0; i < nv; i++)
-        s->on_boundary[verts[i]] = sw_vertex_on_boundary(w, verts[i]);
+        s->vert[verts[i]].on_boundary = sw_vertex_on_boundary(w, verts[i]);
     const int32_t *vfan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)
         s001_face_update(s, vfan[i] / 3);
@@ -409,16 +419,16 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
 
 pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
-    s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, 1),
+    s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, sizeof(s001_vertex_t)),
                 calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0,
                 aligned_alloc(_Alignof(s001_face_t), sizeof(s001_face_t) * ((size_t)w->nf + 1)),
                 NULL, 0};
-    if (!s.on_boundary || !s.mark || !s.face || s001_fit_fan_face(&s) != PP5_OK) {
-        free(s.on_boundary), free(s.mark), free(s.face), free(s.fan_face);
+    if (!s.vert || !s.mark || !s.face || s001_fit_fan_face(&s) != PP5_OK) {
+        free(s.vert), free(s.mark), free(s.face), free(s.fan_face);
         return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
     }
     for (int v = 0; v < w->nv; v++)
-        s.on_boundary[v] = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
+        s.vert[v].on_boundary = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
     for (int f = 0; f < w->nf; f++)
         s001_face_update(&s, f);
     for (int v = 0; v < w->nv; v++)
@@ -439,7 +449,7 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
         if (st == PP5_OK)
             st = s001_refresh(&s, S[0], &m);
     }
-    free(s.on_boundary);
+    free(s.vert);
     free(s.mark);
     free(s.face);
     free(s.fan_face);
