@@ -39,13 +39,17 @@
 #endif
 
 /* What an evaluation reads of a face, in one cache line: its unit normal n,
- * plane offset -n.p0 and area, its vertices, and where each of its corners
- * sits in its vertex's fan (so a walk needs no search for f). */
+ * plane offset -n.p0 and area, its vertices, where each of its corners
+ * sits in its vertex's fan (so a walk needs no search for f; the walk by
+ * position needs fans of at most SW_MAX_FAN, so a byte holds the place),
+ * and the mark that de-duplicates a refresh's faces (kept here because
+ * the face is evaluated right after it is marked). */
 typedef struct {
     _Alignas(64) double n[3];
     double offset, area;
     int32_t v[3];
-    int32_t at[3];   /* corner 3f + j is sw_fan(w, v[j])[at[j]] */
+    uint32_t mark;
+    uint8_t at[3];   /* corner 3f + j is sw_fan(w, v[j])[at[j]] */
 } s001_face_t;
 
 /* What an evaluation reads of a vertex, in one record: where its fan's
@@ -60,7 +64,7 @@ typedef struct {
     sw_t *w;
     seed001_cost_t cost;
     s001_vertex_t *vert;    /* per vertex: fan fields as fan_face, on_boundary kept current */
-    uint32_t *mark, epoch;  /* per face, for de-duplicating neighbourhoods */
+    uint32_t epoch;         /* the last refresh's mark */
     s001_face_t *face;      /* per face, kept current for the faces alive */
     /* w->pool's twin: the face of each corner there (so a walk reads a
      * neighbour's record without dividing its corner by 3); current for
@@ -69,13 +73,16 @@ typedef struct {
     size_t fan_face_cap;
 } s001_t;
 
-/* Renews f's record from the working mesh (after f was built or moved). */
+/* Renews f's record from the working mesh (after f was built or moved; its
+ * vertices' records first).  w->fnormal is sw_face_normal's cross product,
+ * bit for bit: the merge test computes a moved face's from the same
+ * positions in the same order. */
 static void s001_face_update(s001_t *s, int f)
 {
     const sw_t *w = s->w;
     s001_face_t *fc = s->face + f;
     double n[3];
-    sw_face_normal(w, f, n);
+    memcpy(n, w->fnormal + 3 * f, sizeof n);
     double len = sqrt(sw_dot(n, n));
     fc->area = 0.5 * len;
     if (len > 0)
@@ -86,9 +93,11 @@ static void s001_face_update(s001_t *s, int f)
     memcpy(fc->v, w->tri + 3 * f, sizeof fc->v);
 }
 
-/* Records u's fan in fan_face and where each of its corners sits (after
- * the fan was built or changed). */
-static void s001_index_fan(s001_t *s, int u)
+/* Records u's fan in its vertex record and fan_face, and where each of its
+ * corners sits in the face's at, or in by_corner[corner] if given (the
+ * first indexing: the records are then written in face order, not at
+ * random).  A place is cut to a byte only where no walk by place reads it. */
+static void s001_index_fan(s001_t *s, int u, uint8_t *by_corner)
 {
     const sw_t *w = s->w;
     const int32_t *fan = sw_fan(w, u);
@@ -98,7 +107,10 @@ static void s001_index_fan(s001_t *s, int u)
     vr->cycle = w->fan_kind[u] == SW_FAN_CYCLE && vr->n >= 3 && vr->n <= SW_MAX_FAN;
     for (int i = 0; i < w->fan_n[u]; i++) {
         fan_face[i] = fan[i] / 3;
-        s->face[fan[i] / 3].at[fan[i] % 3] = i;
+        if (by_corner)
+            by_corner[fan[i]] = (uint8_t)i;
+        else
+            s->face[fan[i] / 3].at[fan[i] % 3] = (uint8_t)i;
     }
 }
 
@@ -119,7 +131,8 @@ static pp5_status_t s001_fit_fan_face(s001_t *s)
 static uint32_t s001_next_epoch(s001_t *s)
 {
     if (++s->epoch == 0) {
-        memset(s->mark, 0, sizeof *s->mark * (size_t)s->w->nf);
+        for (int f = 0; f < s->w->nf; f++)
+            s->face[f].mark = 0;
         s->epoch = 1;
     }
     return s->epoch;
@@ -328,7 +341,6 @@ S001_INLINE double s001_largest_plane_error(const s001_face_t **nb, int k, const
 /* The collapse point and cost of face f; false if f may not collapse. */
 S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
 {
-    const sw_t *w = s->w;
     const int32_t *t = s->face[f].v;
     int n_boundary = 0, pinned = -1;
     for (int j = 0; j < 3; j++)
@@ -357,9 +369,9 @@ S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *co
     } else {
         lam[0] = lam[1] = lam[2] = 1.0 / 3.0;   /* flat: eqs. (1)-(3) are 0/0 */
     }
+    const double *pos = s->w->pos, *p0 = pos + 3 * t[0], *p1 = pos + 3 * t[1], *p2 = pos + 3 * t[2];
     for (int c = 0; c < 3; c++)
-        v0[c] = lam[0] * w->pos[3 * t[0] + c] + lam[1] * w->pos[3 * t[1] + c] +
-                lam[2] * w->pos[3 * t[2] + c];
+        v0[c] = lam[0] * p0[c] + lam[1] * p1[c] + lam[2] * p2[c];
     double delta = s001_largest_plane_error(h.nb, k, v0);
     double lar = h.area_sum > 0 ? a0 / h.area_sum : 0;          /* eq. (6) */
     double lri = k > 0 ? sum_w / k + h.max_w : 0;               /* eq. (7) */
@@ -392,24 +404,25 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
         verts[nv++] = m->ring[i];
     for (int i = 0; i < nv; i++)
         s->vert[verts[i]].on_boundary = sw_vertex_on_boundary(w, verts[i]);
-    const int32_t *vfan = sw_fan(w, v);
-    for (int i = 0; i < w->fan_n[v]; i++)
-        s001_face_update(s, vfan[i] / 3);
     /* the fans that changed: v's, and those that lost a removed face */
-    s001_index_fan(s, v);
+    s001_index_fan(s, v, NULL);
     for (int r = 0; r < m->n_removed; r++)
         for (int c = 3 * m->removed[r]; c < 3 * m->removed[r] + 3; c++)
             if (w->tri[c] != v)
-                s001_index_fan(s, w->tri[c]);
+                s001_index_fan(s, w->tri[c], NULL);
+    const int32_t *vfan = s->fan_face + s->vert[v].fan;
+    for (int i = 0; i < s->vert[v].n; i++)
+        s001_face_update(s, vfan[i]);
     uint32_t ep = s001_next_epoch(s);
     int32_t faces[4 * SW_MAX_FAN];
     int nf = 0;
     for (int i = 0; i < nv; i++) {
-        const int32_t *fan = sw_fan(w, verts[i]);
-        for (int j = 0; j < w->fan_n[verts[i]] && nf < 4 * SW_MAX_FAN; j++)
-            if (s->mark[fan[j] / 3] != ep) {
-                s->mark[fan[j] / 3] = ep;
-                faces[nf++] = fan[j] / 3;
+        const s001_vertex_t *vr = s->vert + verts[i];
+        const int32_t *fan = s->fan_face + vr->fan;
+        for (int j = 0; j < vr->n && nf < 4 * SW_MAX_FAN; j++)
+            if (s->face[fan[j]].mark != ep) {
+                s->face[fan[j]].mark = ep;
+                faces[nf++] = fan[j];
             }
     }
     for (int i = 0; i < nf; i++)
@@ -417,25 +430,40 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     return PP5_OK;
 }
 
+/* The records of every vertex and face, and every face costed. */
+static pp5_status_t s001_start(s001_t *s)
+{
+    const sw_t *w = s->w;
+    uint8_t *by_corner = malloc(3 * (size_t)w->nf + 1);
+    pp5_status_t st = !s->vert || !s->face || !by_corner
+                          ? pp5_fail(PP5_E_NOMEM, "seed001: out of memory")
+                          : s001_fit_fan_face(s);
+    if (st != PP5_OK) {
+        free(by_corner);
+        return st;
+    }
+    for (int v = 0; v < w->nv; v++) {
+        s->vert[v].on_boundary = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
+        s001_index_fan(s, v, by_corner);
+    }
+    for (int f = 0; f < w->nf; f++) {
+        s001_face_update(s, f);
+        s->face[f].mark = 0;
+        memcpy(s->face[f].at, by_corner + 3 * f, sizeof s->face[f].at);
+    }
+    free(by_corner);
+    for (int f = 0; f < w->nf; f++)
+        s001_queue(s, f);
+    return PP5_OK;
+}
+
 pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
-    s001_t s = {w, o->s001_cost, calloc((size_t)w->nv + 1, sizeof(s001_vertex_t)),
-                calloc((size_t)w->nf + 1, sizeof(uint32_t)), 0,
-                aligned_alloc(_Alignof(s001_face_t), sizeof(s001_face_t) * ((size_t)w->nf + 1)),
-                NULL, 0};
-    if (!s.vert || !s.mark || !s.face || s001_fit_fan_face(&s) != PP5_OK) {
-        free(s.vert), free(s.mark), free(s.face), free(s.fan_face);
-        return pp5_fail(PP5_E_NOMEM, "seed001: out of memory");
-    }
-    for (int v = 0; v < w->nv; v++)
-        s.vert[v].on_boundary = w->vert_alive[v] && sw_vertex_on_boundary(w, v);
-    for (int f = 0; f < w->nf; f++)
-        s001_face_update(&s, f);
-    for (int v = 0; v < w->nv; v++)
-        s001_index_fan(&s, v);
-    for (int f = 0; f < w->nf; f++)
-        s001_queue(&s, f);
-    pp5_status_t st = PP5_OK;
+    s001_t s = {.w = w, .cost = o->s001_cost,
+                .vert = calloc((size_t)w->nv + 1, sizeof(s001_vertex_t)),
+                .face = aligned_alloc(_Alignof(s001_face_t),
+                                      sizeof(s001_face_t) * ((size_t)w->nf + 1))};
+    pp5_status_t st = s001_start(&s);
     sw_qentry_t e;
     sw_merge_t m;
     while (st == PP5_OK && w->faces_alive > o->target_faces && sw_queue_pop(&w->queue, &e)) {
@@ -450,7 +478,6 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
             st = s001_refresh(&s, S[0], &m);
     }
     free(s.vert);
-    free(s.mark);
     free(s.face);
     free(s.fan_face);
     return st;
