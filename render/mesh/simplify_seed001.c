@@ -18,6 +18,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "simplify_work.h"
 
@@ -430,6 +431,24 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     return PP5_OK;
 }
 
+/* The face records: every re-costing reads some fifty of them at random
+ * places (the bunny's are 4.4 MB), so they ask for 2 MiB pages (transparent
+ * huge pages, where the host allows them): fewer TLB misses and page
+ * faults.  Freed with free(). */
+static s001_face_t *s001_alloc_faces(size_t n)
+{
+    const size_t huge = (size_t)2 << 20;
+    size_t bytes = sizeof(s001_face_t) * n;
+    if (bytes < huge)
+        return aligned_alloc(_Alignof(s001_face_t), bytes);
+    void *p = aligned_alloc(huge, (bytes + huge - 1) & ~(huge - 1));
+#ifdef MADV_HUGEPAGE
+    if (p)
+        madvise(p, bytes, MADV_HUGEPAGE);   /* advice only: failure is harmless */
+#endif
+    return p;
+}
+
 /* The records of every vertex and face, and every face costed. */
 static pp5_status_t s001_start(s001_t *s)
 {
@@ -461,8 +480,7 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
     s001_t s = {.w = w, .cost = o->s001_cost,
                 .vert = calloc((size_t)w->nv + 1, sizeof(s001_vertex_t)),
-                .face = aligned_alloc(_Alignof(s001_face_t),
-                                      sizeof(s001_face_t) * ((size_t)w->nf + 1))};
+                .face = s001_alloc_faces((size_t)w->nf + 1)};
     pp5_status_t st = s001_start(&s);
     sw_qentry_t e;
     sw_merge_t m;
