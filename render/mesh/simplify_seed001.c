@@ -254,23 +254,23 @@ S001_INLINE double s001_walk_fan(s001_walk_t *r, const s001_face_t *faces, const
     return r->lam_j;
 }
 
-/* f's neighbourhood when all three of its fans are interior cycles and its
- * vertices distinct: the same sums in the same order as s001_hood_fan_any
- * (an edge-neighbour's other half reaches the later vertex's lambda before
- * that vertex's walk adds anything).  False otherwise, or if a recorded fan
- * place does not hold f (the general walk decides then). */
-S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f)
+/* f's neighbourhood when all three of its fans (vr: its vertices' records)
+ * are interior cycles: the same sums in the same order as
+ * s001_hood_fan_any (an edge-neighbour's other half reaches the later
+ * vertex's lambda before that vertex's walk adds anything).  f's vertices
+ * are distinct (mesh_validate refuses a face that repeats one, and a merge
+ * removes every face with two merged vertices).  False if a fan is not an
+ * interior cycle or a recorded place does not hold f (the general walk
+ * decides then). */
+S001_INLINE bool s001_hood_interior(s001_hood_t *h, const s001_t *s, int f,
+                                    const s001_vertex_t *const vr[3])
 {
     const s001_face_t *fc = s->face + f, *faces = s->face;
-    const int32_t *t = fc->v;
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-        return false;
     const int32_t *fan[3];
     int n[3];
     for (int j = 0; j < 3; j++) {
-        const s001_vertex_t *vr = s->vert + t[j];
-        n[j] = vr->n, fan[j] = s->fan_face + vr->fan;
-        if (!vr->cycle || fc->at[j] >= n[j] || fan[j][fc->at[j]] != f)
+        n[j] = vr[j]->n, fan[j] = s->fan_face + vr[j]->fan;
+        if (!vr[j]->cycle || fc->at[j] >= n[j] || fan[j][fc->at[j]] != f)
             return false;
     }
     s001_walk_t r = {h->n0, 0, 0, 0, h->area_sum, h->nb, 0};
@@ -342,19 +342,20 @@ S001_INLINE double s001_largest_plane_error(const s001_face_t **nb, int k, const
 /* The collapse point and cost of face f; false if f may not collapse. */
 S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *cost)
 {
-    const int32_t *t = s->face[f].v;
+    const s001_face_t *f0 = s->face + f;
+    const int32_t *t = f0->v;
+    const s001_vertex_t *const vr[3] = {s->vert + t[0], s->vert + t[1], s->vert + t[2]};
     int n_boundary = 0, pinned = -1;
     for (int j = 0; j < 3; j++)
-        if (s->vert[t[j]].on_boundary)
+        if (vr[j]->on_boundary)
             n_boundary++, pinned = j;
     if (n_boundary >= 2)
         return false;
-    const s001_face_t *f0 = s->face + f;
     double a0 = f0->area;
     s001_hood_t h;
     h.n0 = f0->n, h.sum_w = 0, h.max_w = 0, h.area_sum = a0;
     h.lam[0] = h.lam[1] = h.lam[2] = 0, h.k = 0;
-    if (!s001_hood_interior(&h, s, f)) {
+    if (!s001_hood_interior(&h, s, f, vr)) {
         s001_hood_fan_any(&h, s, f, 0);
         s001_hood_fan_any(&h, s, f, 1);
         s001_hood_fan_any(&h, s, f, 2);
