@@ -391,6 +391,69 @@ static void s001_queue(s001_t *s, int f)
         sw_queue_remove(&s->w->queue, f);
 }
 
+/* The queue's top during a refresh is, most of the time, the next face to
+ * collapse (on the bunny, the top before the refresh is it for 69 % of
+ * the collapses); its neighbourhood is cold, and its evaluation, the merge
+ * test and the merge would fetch it one miss after another.  So between
+ * the refresh's evaluations it is asked for in stages, each stage for the
+ * lines whose addresses the previous one brought in: the face's record,
+ * its vertices, their fans, the fans' faces (records, corners, normals),
+ * those faces' vertices.  A wrong guess costs only the asking. */
+typedef struct {
+    int face, stage;
+} s001_warm_t;
+
+enum { S001_WARM_STAGES = 5 };
+
+static void s001_warm_step(const s001_t *s, s001_warm_t *wm)
+{
+    const sw_t *w = s->w;
+    const int f = wm->face, *t = s->face[f].v, stage = wm->stage++;
+    switch (stage) {
+    case 0:
+        __builtin_prefetch(s->face + f);
+        break;
+    case 1:
+        for (int j = 0; j < 3; j++) {
+            __builtin_prefetch(s->vert + t[j]);
+            __builtin_prefetch(w->fan_off + t[j]);
+            __builtin_prefetch(w->fan_n + t[j]);
+            __builtin_prefetch(w->pos + 3 * t[j]);
+        }
+        break;
+    case 2:
+        for (int j = 0; j < 3; j++) {
+            const s001_vertex_t *vr = s->vert + t[j];
+            __builtin_prefetch(s->fan_face + vr->fan);
+            __builtin_prefetch(s->fan_face + vr->fan + vr->n - 1);
+            __builtin_prefetch(w->pool + w->fan_off[t[j]]);
+            __builtin_prefetch(w->pool + w->fan_off[t[j]] + w->fan_n[t[j]] - 1);
+        }
+        break;
+    default:
+        for (int j = 0; j < 3; j++) {
+            const s001_vertex_t *vr = s->vert + t[j];
+            const int32_t *fan = s->fan_face + vr->fan;
+            for (int i = 0; i < vr->n; i++) {
+                int g = fan[i];
+                if (stage == 3) {   /* the fan's faces */
+                    __builtin_prefetch(s->face + g);
+                    __builtin_prefetch(w->tri + 3 * g);
+                    __builtin_prefetch(w->nextv + 3 * g);
+                    __builtin_prefetch(w->prevv + 3 * g);
+                    __builtin_prefetch(w->fnormal + 3 * g);
+                } else {            /* their vertices */
+                    for (int k = 0; k < 3; k++) {
+                        __builtin_prefetch(w->pos + 3 * s->face[g].v[k]);
+                        __builtin_prefetch(s->vert + s->face[g].v[k]);
+                    }
+                }
+            }
+        }
+        break;
+    }
+}
+
 /* After a collapse at v: v's faces moved; every face touching v or its ring
  * has a new neighbourhood, so their boundary flags and costs are renewed. */
 static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
@@ -427,8 +490,17 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
                 faces[nf++] = fan[j];
             }
     }
-    for (int i = 0; i < nf; i++)
+    s001_warm_t warm = {-1, 0};
+    for (int i = 0; i < nf; i++) {
+        if (i % 3 == 0 && w->queue.n > 0) {
+            int top = sw_queue_top(&w->queue).id;
+            if (top != warm.face)   /* a re-costed face went to the top: start on it */
+                warm.face = top, warm.stage = 0;
+            if (warm.stage < S001_WARM_STAGES)
+                s001_warm_step(s, &warm);
+        }
         s001_queue(s, faces[i]);
+    }
     return PP5_OK;
 }
 
