@@ -398,12 +398,14 @@ static void s001_queue(s001_t *s, int f)
  * the refresh's evaluations it is asked for in stages, each stage for the
  * lines whose addresses the previous one brought in: the face's record,
  * its vertices, their fans, the fans' faces (records, corners, normals),
- * those faces' vertices.  A wrong guess costs only the asking. */
+ * those faces' vertices, then (s001_warm_ring_step) the fans around them,
+ * which the refresh after that collapse reads.  A wrong guess costs only
+ * the asking. */
 typedef struct {
     int face, stage;
 } s001_warm_t;
 
-enum { S001_WARM_STAGES = 5 };
+
 
 static void s001_warm_step(const s001_t *s, s001_warm_t *wm)
 {
@@ -454,6 +456,33 @@ static void s001_warm_step(const s001_t *s, s001_warm_t *wm)
     }
 }
 
+/* The next refresh's region if the top collapses: the fans of the top's
+ * ring (the vertices after its vertices in their faces), asked for in
+ * three more stages: their places, their fans, the fans' faces. */
+static void s001_warm_ring_step(const s001_t *s, s001_warm_t *wm)
+{
+    const sw_t *w = s->w;
+    const int *t = s->face[wm->face].v, stage = wm->stage++;
+    for (int j = 0; j < 3; j++) {
+        const int32_t *fan = sw_fan(w, t[j]);
+        for (int i = 0; i < w->fan_n[t[j]]; i++) {
+            int x = w->nextv[fan[i]];
+            const s001_vertex_t *xr = s->vert + x;
+            if (stage == 5) {
+                __builtin_prefetch(xr);
+                __builtin_prefetch(w->fan_off + x);
+            } else if (stage == 6) {
+                __builtin_prefetch(s->fan_face + xr->fan);
+                __builtin_prefetch(w->pool + w->fan_off[x]);
+            } else {
+                const int32_t *xfan = s->fan_face + xr->fan;
+                for (int l = 0; l < xr->n; l++)
+                    __builtin_prefetch(s->face + xfan[l]);
+            }
+        }
+    }
+}
+
 /* After a collapse at v: v's faces moved; every face touching v or its ring
  * has a new neighbourhood, so their boundary flags and costs are renewed. */
 static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
@@ -496,8 +525,10 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
             int top = sw_queue_top(&w->queue).id;
             if (top != warm.face)   /* a re-costed face went to the top: start on it */
                 warm.face = top, warm.stage = 0;
-            if (warm.stage < S001_WARM_STAGES)
+            if (warm.stage < 5)
                 s001_warm_step(s, &warm);
+            else if (warm.stage < 8)
+                s001_warm_ring_step(s, &warm);
         }
         s001_queue(s, faces[i]);
     }
