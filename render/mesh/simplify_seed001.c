@@ -575,8 +575,14 @@ static pp5_status_t s001_start(s001_t *s)
         memcpy(s->face[f].at, by_corner + 3 * f, sizeof s->face[f].at);
     }
     free(by_corner);
-    for (int f = 0; f < w->nf; f++)
-        s001_queue(s, f);
+    /* the queue built at once: its pops are the same, as (cost, face)
+     * orders every pair of faces */
+    for (int f = 0; f < w->nf; f++) {
+        double v0[3], cost;
+        if (s001_evaluate(s, f, v0, &cost))
+            sw_queue_append(&s->w->queue, f, cost, (uint64_t)f);
+    }
+    sw_queue_heapify(&s->w->queue);
     return PP5_OK;
 }
 
