@@ -371,7 +371,8 @@ S001_CLONED static bool s001_evaluate(s001_t *s, int f, double v0[3], double *co
     } else {
         lam[0] = lam[1] = lam[2] = 1.0 / 3.0;   /* flat: eqs. (1)-(3) are 0/0 */
     }
-    const double *pos = s->w->pos, *p0 = pos + 3 * t[0], *p1 = pos + 3 * t[1], *p2 = pos + 3 * t[2];
+    const double *p0 = s->w->pos + 3 * t[0], *p1 = s->w->pos + 3 * t[1],
+                 *p2 = s->w->pos + 3 * t[2];
     for (int c = 0; c < 3; c++)
         v0[c] = lam[0] * p0[c] + lam[1] * p1[c] + lam[2] * p2[c];
     double delta = s001_largest_plane_error(h.nb, k, v0);
@@ -404,8 +405,6 @@ static void s001_queue(s001_t *s, int f)
 typedef struct {
     int face, stage;
 } s001_warm_t;
-
-
 
 static void s001_warm_step(const s001_t *s, s001_warm_t *wm)
 {
