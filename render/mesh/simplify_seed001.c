@@ -518,8 +518,16 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
                 faces[nf++] = fan[j];
             }
     }
+    /* Each re-costed face moves in the queue, whose where[] and heap slot
+     * would be two misses one after the other: where[] is asked for at
+     * once, a slot two evaluations ahead. */
+    const sw_queue_t *q = &w->queue;
+    for (int i = 0; i < nf; i++)
+        __builtin_prefetch(q->where + faces[i]);
     s001_warm_t warm = {-1, 0};
     for (int i = 0; i < nf; i++) {
+        if (i + 2 < nf && q->where[faces[i + 2]] >= 0)
+            __builtin_prefetch(q->e + q->where[faces[i + 2]]);
         if (i % 3 == 0 && w->queue.n > 0) {
             int top = sw_queue_top(&w->queue).id;
             if (top != warm.face)   /* a re-costed face went to the top: start on it */
