@@ -49,6 +49,7 @@ typedef struct {
     uint32_t *frozen, epoch;      /* vertex frozen while frozen[v] == epoch */
     uint32_t *mark, mark_epoch;   /* vertices in the current update set */
     double mean_edge;
+    double smooth_cos;            /* smooth_cos_for the crease angle */
     int phase;
     bool lazy;                    /* asked for, and Cd >= 0 in both phases: the bound holds */
     s003_corner_t *hot;           /* per corner */
@@ -214,19 +215,65 @@ static double group_cone(const vertex_normals_t *vn, int bi, int bj)
     return acos(c2);
 }
 
+/* The cosine above which two normals surely meet at less than the crease
+ * angle: cos(crease) + 1e-9 where acos of it is below the crease angle
+ * (acos falls monotonically), else 2 (no shortcut). */
+static double smooth_cos_for(double crease)
+{
+    double c = cos(crease) + 1e-9;
+    return c < 1 && acos(c) < crease ? c : 2.0;
+}
+
+/* Is A1 surely below the crease angle?  True when every pair of the face
+ * normals at v passes dot > 0 and dot^2 > c^2 |n_i|^2 |n_j|^2 with c a
+ * further 1e-9 above smooth_cos: then the cosine classify_vertex would
+ * compute (cos_from: a quotient and a square root, each rounded once) is
+ * above smooth_cos, its acos below the crease angle.  No square root or
+ * division per pair; lengths outside 1e-150 .. 1e150 (where the products
+ * could leave the normal range of doubles) and fans of over 32 faces are
+ * left to the full test.  Most vertices of a scan end here. */
+static bool surely_smooth(const s003_t *s, int v)
+{
+    const sw_t *w = s->w;
+    int n = w->fan_n[v];
+    if (s->smooth_cos > 1 || n > 32)
+        return false;
+    const double c = s->smooth_cos + 1e-9, c2 = c * c;
+    const int32_t *fan = sw_fan(w, v);
+    const double *nr[32];
+    double len2[32];
+    for (int i = 0; i < n; i++) {
+        nr[i] = w->fnormal + 3 * (fan[i] / 3);
+        len2[i] = sw_dot(nr[i], nr[i]);
+        if (!(len2[i] > 1e-150 && len2[i] < 1e150))
+            return false;
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) {
+            double d = sw_dot(nr[i], nr[j]);
+            if (!(d > 0 && d * d > c2 * len2[i] * len2[j]))
+                return false;
+        }
+    return true;
+}
+
 /* §2.1: ordinary (A1 below the crease angle), crease or corner (A2 above
  * the corner angle).  Faces are taken in index order (the first widest
  * pair wins a tie).  A2 matters only past the crease angle, so a smooth
- * vertex, most of any scan, never groups its normals. */
+ * vertex, most of any scan, never groups its normals, and one that is
+ * surely smooth is not measured further. */
 static void classify_vertex(s003_t *s, int v)
 {
     const sw_t *w = s->w;
-    vertex_normals_t vn;
-    gather_normals(w, v, &vn);
-    int bi, bj;
-    double a1 = widest_pair(&vn, &bi, &bj);
     double crease = s->o->s003_crease_deg * PI / 180, corner = s->o->s003_corner_deg * PI / 180;
-    int imp = a1 < crease ? 0 : group_cone(&vn, bi, bj) > corner ? 2 : 1;
+    int imp = 0;
+    if (!surely_smooth(s, v)) {
+        vertex_normals_t vn;
+        gather_normals(w, v, &vn);
+        int bi, bj;
+        double a1 = widest_pair(&vn, &bi, &bj);
+        imp = a1 < crease ? 0 : group_cone(&vn, bi, bj) > corner ? 2 : 1;
+    }
     s->corner[v] = imp == 2;
     if (imp < 2 && sw_vertex_on_boundary(w, v)) {
         imp++;
@@ -663,6 +710,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
         !s->dcost || !s->dtie || !s->newp)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
+    s->smooth_cos = smooth_cos_for(o->s003_crease_deg * PI / 180);
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
         if (w->vert_alive[v])
             classify_vertex(s, v);
