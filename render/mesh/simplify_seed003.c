@@ -502,19 +502,34 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     return PP5_OK;
 }
 
-/* Queues every edge (the queue is empty). */
+/* Queues every edge (the queue is empty), vertex by vertex: in an ordered
+ * fan the twin of corner i (x -> y) is the corner before it in the previous
+ * face (y -> x), and a path's first corner is a boundary edge, so no fan is
+ * searched.  A pinched (BROKEN) fan asks corner by corner.  Each edge is
+ * queued once, under its canonical corner (sw_edge_id), as before; the
+ * order of queueing does not matter (queue_put). */
 static pp5_status_t queue_all_edges(s003_t *s)
 {
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
     s->bulk = true;
-    for (int c = 0; c < 3 * w->nf && st == PP5_OK; c++) {
-        if (!w->face_alive[c / 3])
-            continue;
-        if (sw_corner_on_boundary(w, c))
-            st = s003_queue(s, c, -1);
-        else if (w->tri[c] < w->nextv[c])   /* canonical; its twin is not queued */
-            st = s003_queue(s, c, sw_find_corner(w, w->nextv[c], w->tri[c]));
+    for (int x = 0; x < w->nv && st == PP5_OK; x++) {
+        const int32_t *fan = sw_fan(w, x);
+        int n = w->fan_n[x];
+        uint8_t kind = w->fan_kind[x];
+        for (int i = 0; i < n && st == PP5_OK; i++) {
+            int c = fan[i], y = w->nextv[c];
+            if (kind == SW_FAN_BROKEN) {
+                if (sw_corner_on_boundary(w, c))
+                    st = s003_queue(s, c, -1);
+                else if (x < y)
+                    st = s003_queue(s, c, sw_find_corner(w, y, x));
+            } else if (i == 0 && kind == SW_FAN_PATH) {
+                st = s003_queue(s, c, -1);
+            } else if (x < y) {
+                st = s003_queue(s, c, sw_prev(fan[i > 0 ? i - 1 : n - 1]));
+            }
+        }
     }
     s->bulk = false;
     sw_queue_heapify(&w->queue);
