@@ -301,9 +301,26 @@ static double dist(const double *a, const double *b)
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-/* The lengths and roundness L_e / L_max (§2.3) of face f's three edges:
- * the same doubles as measuring them from the endpoints in either order
- * (a difference squares to the same number both ways round). */
+/* The roundness L_e / L_max (§2.3) of the three edges of the face of
+ * corner c, after measuring the two edges at c's vertex (c and the corner
+ * before it); the third keeps its length (its ends have not moved since
+ * the face was last measured: a vertex that moves is a merged one, and
+ * every face around it is measured).  Lengths are the same doubles as
+ * measuring from the endpoints in either order (a difference squares to
+ * the same number both ways round). */
+static void measure_face_at(s003_t *s, int c0)
+{
+    const sw_t *w = s->w;
+    int f = c0 / 3;
+    s->hot[c0].len = dist(w->pos + 3 * w->tri[c0], w->pos + 3 * w->nextv[c0]);
+    s->hot[sw_prev(c0)].len = dist(w->pos + 3 * w->prevv[c0], w->pos + 3 * w->tri[c0]);
+    for (int c = 3 * f; c < 3 * f + 3; c++) {
+        double lmax = max_num(s->hot[sw_prev(c)].len, s->hot[sw_next(c)].len);
+        s->hot[c].round = lmax > 0 ? s->hot[c].len / lmax : 0;
+    }
+}
+
+/* The lengths and roundness of face f's three edges. */
 static void measure_face(s003_t *s, int f)
 {
     const sw_t *w = s->w;
@@ -573,7 +590,7 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
     sw_t *w = s->w;
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)   /* the faces that moved or changed a vertex */
-        measure_face(s, fan[i] / 3);
+        measure_face_at(s, fan[i]);
     if (s->importance[gone] > s->importance[v])
         s->importance[v] = s->importance[gone];
     s->corner[v] |= s->corner[gone];
