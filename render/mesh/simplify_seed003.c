@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "seed003_queue.h"
 #include "seed003_stencil.h"
 
 static const double PI = 3.14159265358979323846;
@@ -23,11 +24,12 @@ static const double PI = 3.14159265358979323846;
 enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
 
 /* What re-costing an edge reads and writes of its corner c (the edge
- * tri[c] -> nextv[c]), side by side: 24 bytes on one cache line (or two),
- * not a line in each of five arrays:
+ * tri[c] -> nextv[c]), side by side: 32 bytes on one cache line, not a
+ * line in each of six arrays:
  * - len, round: for the faces alive, the edge's length and its face's
  *   roundness for it, so a re-costed edge reads S and L instead of
  *   measuring them;
+ * - qpos: where the edge is queued (seed003_queue.h), if it is;
  * - dirty: queued under a lower bound, not yet costed;
  * - dstate: frozen (§2.3) and set aside;
  * - twin: for an edge queued under a lower bound or set aside dirty, its
@@ -37,6 +39,7 @@ enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
  *   twin again. */
 typedef struct {
     double len, round;
+    int64_t qpos;
     int32_t twin;
     uint8_t dirty, dstate;
 } s003_corner_t;
@@ -59,7 +62,7 @@ typedef struct {
     double *dcost;
     uint64_t *dtie;
     double *newp;                 /* per queued edge with its cost: the point it was costed at */
-    bool bulk;                    /* filling an empty queue: append now, heapify after */
+    s003_queue_t queue;           /* edges by their corner ids (the shared queue is not used) */
     int32_t *dlist;
     int dn, dcap;
     double ring_table[S003_RING_TABLE_SIZE];
@@ -449,20 +452,16 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
 }
 
 /* Puts id in the queue under (cost, tie).  The keys are distinct (one id
- * per edge, ties on its vertices), so the pops do not depend on how the
- * heap was built. */
-static void queue_put(s003_t *s, int id, double cost, uint64_t tie)
+ * per edge, ties on its vertices), so the pops do not depend on the order
+ * edges were queued in or on how the queue keeps them. */
+static pp5_status_t queue_put(s003_t *s, int id, double cost, uint64_t tie)
 {
-    if (s->bulk)
-        sw_queue_append(&s->w->queue, id, cost, tie);
-    else
-        sw_queue_set(&s->w->queue, id, cost, tie);
+    return s003_queue_set(&s->queue, id, cost, tie);
 }
 
 static void queue_drop(s003_t *s, int id)
 {
-    if (sw_queue_has(&s->w->queue, id))
-        sw_queue_remove(&s->w->queue, id);
+    s003_queue_remove(&s->queue, id);
 }
 
 static void s003_forget(s003_t *s, int id)
@@ -474,27 +473,29 @@ static void s003_forget(s003_t *s, int id)
 
 /* Queues live edge id (a < b; twin: its other corner, or -1) under its
  * cost, or under the lower bound. */
-static void s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
+static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool now)
 {
     if (!now && s->lazy) {
         double lb = lower_bound(s, id, twin);
         uint64_t tie = sw_edge_tie(a, b);
-        const sw_queue_t *q = &s->w->queue;
+        s->hot[id].dirty = 1;
+        s->hot[id].twin = twin;
         /* A key already queued at or below the bound (with the same tie) is
          * still a lower bound of F: left in place, the edge only reaches
          * the top sooner to be costed, and deletions keep their order. */
-        if (s->bulk || !sw_queue_has(q, id) || q->tie[id] != tie || !(sw_queue_cost(q, id) <= lb))
-            queue_put(s, id, lb, tie);
-        s->hot[id].dirty = 1;
-        s->hot[id].twin = twin;
-        return;
+        if (s003_queue_has(&s->queue, id)) {
+            s003_qentry_t key = s003_queue_key(&s->queue, id);
+            if (key.tie == tie && key.cost <= lb)
+                return PP5_OK;
+        }
+        return queue_put(s, id, lb, tie);
     }
     double F;
     s->hot[id].dirty = 0;
     if (s003_evaluate(s, id, a, b, s->newp + 3 * (size_t)id, &F))
-        queue_put(s, id, F, sw_edge_tie(a, b));
-    else
-        queue_drop(s, id);
+        return queue_put(s, id, F, sw_edge_tie(a, b));
+    queue_drop(s, id);
+    return PP5_OK;
 }
 
 /* Re-costs the edge of canonical id `id` (sw_edge_id) now, or at the thaw if
@@ -515,8 +516,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
         s->hot[id].twin = twin;
         return s003_defer(s, id, S003_DEFERRED_DIRTY);
     }
-    s003_cost(s, id, twin, a, b, false);
-    return PP5_OK;
+    return s003_cost(s, id, twin, a, b, false);
 }
 
 /* Queues every edge (the queue is empty), vertex by vertex: in an ordered
@@ -529,7 +529,6 @@ static pp5_status_t queue_all_edges(s003_t *s)
 {
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
-    s->bulk = true;
     for (int x = 0; x < w->nv && st == PP5_OK; x++) {
         const int32_t *fan = sw_fan(w, x);
         int n = w->fan_n[x];
@@ -548,8 +547,6 @@ static pp5_status_t queue_all_edges(s003_t *s)
             }
         }
     }
-    s->bulk = false;
-    sw_queue_heapify(&w->queue);
     return st;
 }
 
@@ -613,26 +610,25 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
 }
 
 /* Every queued edge is frozen: thaw them all (§2.3) into the empty queue. */
-static void s003_thaw(s003_t *s)
+static pp5_status_t s003_thaw(s003_t *s)
 {
     sw_t *w = s->w;
+    pp5_status_t st = PP5_OK;
     s->epoch++;
-    s->bulk = true;
     w->stats->unfreezes++;
-    for (int i = 0; i < s->dn; i++) {
+    for (int i = 0; i < s->dn && st == PP5_OK; i++) {
         int id = s->dlist[i];
         uint8_t state = s->hot[id].dstate;
         s->hot[id].dstate = S003_LIVE;
         if (state == S003_DEFERRED) {
-            queue_put(s, id, s->dcost[id], s->dtie[id]);
+            st = queue_put(s, id, s->dcost[id], s->dtie[id]);
         } else if (state == S003_DEFERRED_DIRTY) {
             int a = w->tri[id], b = w->nextv[id];
-            s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
+            st = s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
         }
     }
     s->dn = 0;
-    s->bulk = false;
-    sw_queue_heapify(&w->queue);
+    return st;
 }
 
 /* Phase 2 (§2.3): new weights, every edge re-costed and re-sorted. */
@@ -641,8 +637,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
     sw_t *w = s->w;
     s->phase = 1;
     w->stats->phase_switch_merge = w->stats->merges;
-    while (w->queue.n > 0)
-        sw_queue_remove(&w->queue, w->queue.e[w->queue.n - 1].id);
+    s003_queue_clear(&s->queue);
     for (int i = 0; i < s->dn; i++)
         s->hot[s->dlist[i]].dstate = S003_LIVE;
     s->dn = 0;
@@ -653,25 +648,22 @@ static pp5_status_t s003_switch_phase(s003_t *s)
 /* Takes the edge at the top of the queue: sets it aside if it is frozen,
  * costs it in place if its key was a lower bound, else deletes it if it
  * may go (its new point is the one its cost was found at). */
-static pp5_status_t s003_take_top(s003_t *s)
+static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
 {
     sw_t *w = s->w;
-    sw_qentry_t e = sw_queue_top(&w->queue);
     int a = w->tri[e.id], b = w->nextv[e.id];
     if (a > b) {
         int t = a;
         a = b, b = t;
     }
     if (s003_frozen(s, a, b)) {
-        sw_queue_remove(&w->queue, e.id);
+        queue_drop(s, e.id);
         s->dcost[e.id] = e.cost, s->dtie[e.id] = e.tie;
         return s003_defer(s, e.id, s->hot[e.id].dirty ? S003_DEFERRED_DIRTY : S003_DEFERRED);
     }
-    if (s->hot[e.id].dirty) {   /* moves down to its cost, or leaves */
-        s003_cost(s, e.id, -1, a, b, true);
-        return PP5_OK;
-    }
-    sw_queue_remove(&w->queue, e.id);
+    if (s->hot[e.id].dirty)   /* moves down to its cost, or leaves */
+        return s003_cost(s, e.id, -1, a, b, true);
+    queue_drop(s, e.id);
     const double *p = s->newp + 3 * (size_t)e.id;
     sw_merge_t m;
     int32_t S[2] = {a, b};
@@ -680,7 +672,7 @@ static pp5_status_t s003_take_top(s003_t *s)
     pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
     for (int r = 0; r < m.n_removed; r++)
         for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
-            s->hot[c].dstate = S003_LIVE, s->hot[c].dirty = 0;
+            s003_forget(s, c);
     return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
 }
 
@@ -695,13 +687,14 @@ static pp5_status_t s003_loop(s003_t *s)
             st = s003_switch_phase(s);
             continue;
         }
-        if (w->queue.n > 0) {
-            st = s003_take_top(s);
+        s003_qentry_t top;
+        if (s003_queue_top(&s->queue, &top)) {
+            st = s003_take_top(s, top);
             continue;
         }
         if (s->dn == 0)
             break;
-        s003_thaw(s);
+        st = s003_thaw(s);
     }
     return st;
 }
@@ -741,6 +734,14 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->hot ||
         !s->dcost || !s->dtie || !s->newp)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
+    /* This run keeps its own queue; without the shared one the merge
+     * (sw_apply_merge) has no entries to drop, and take_top drops ours. */
+    sw_queue_free(&w->queue);
+    if (st == PP5_OK) {
+        for (size_t c = 0; c < nc; c++)
+            s->hot[c].qpos = S003_QPOS_NONE;
+        st = s003_queue_init(&s->queue, (int)nc, &s->hot[0].qpos, sizeof *s->hot);
+    }
     s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
     s->smooth_cos = smooth_cos_for(o->s003_crease_deg * PI / 180);
     for (int v = 0; v < w->nv && st == PP5_OK; v++)
@@ -755,6 +756,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
     free(s->hot), free(s->dcost), free(s->dtie), free(s->dlist), free(s->newp);
+    s003_queue_free(&s->queue);
     free(s);
     return st;
 }

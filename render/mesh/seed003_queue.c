@@ -1,0 +1,255 @@
+/* seed003_queue.c: seed 003's candidate queue (seed003_queue.h): a small
+ * 4-ary heap of the lowest keys over unsorted buckets of the others.
+ *
+ * Why: to 1 % of the bunny seed 003 re-keys an edge at the top of the
+ * queue 166,000 times (a lower bound becomes its cost, usually far below
+ * the top) and takes 417,000 frozen or re-costed edges out of the middle.
+ * In one heap of 100,000 edges the first sank through eight levels and the
+ * second sifted too, each level writing a position to a cold line.  Here
+ * both are O(1) for keys above the heap's range, and the heap holds about
+ * one bucket of keys. */
+#include "seed003_queue.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The buckets: one for keys below 2^-20 (zero and negative ones too), then
+ * 2^BUCKET_STEPS_LOG2 per octave up to 2^20 (a key's bucket is read off
+ * its exponent and leading mantissa bits), then one for the rest (INFINITY,
+ * where NaN goes).  A bucket's keys are all above those of the buckets
+ * before it: positive doubles order as their bit patterns. */
+enum { BUCKET_STEPS_LOG2 = 9, OCTAVES = 40, N_BUCKETS = (OCTAVES << BUCKET_STEPS_LOG2) + 2 };
+static const double LOWEST_STEPPED = 0x1p-20, ABOVE_STEPPED = 0x1p20;
+
+static int bucket_of(double cost)
+{
+    if (!(cost >= LOWEST_STEPPED))
+        return 0;
+    if (!(cost < ABOVE_STEPPED))
+        return N_BUCKETS - 1;
+    uint64_t bits, low;
+    memcpy(&bits, &cost, sizeof bits);
+    memcpy(&low, &LOWEST_STEPPED, sizeof low);
+    return 1 + (int)((bits - low) >> (52 - BUCKET_STEPS_LOG2));
+}
+
+/* A bucket entry's position: below S003_QPOS_NONE, so apart from heap slots. */
+static int64_t bucket_pos(int b, int i)
+{
+    return -2 - ((int64_t)b << 32 | (uint32_t)i);
+}
+
+static void bucket_pos_split(int64_t pos, int *b, int *i)
+{
+    int64_t v = -2 - pos;
+    *b = (int)(v >> 32), *i = (int)(uint32_t)v;
+}
+
+pp5_status_t s003_queue_init(s003_queue_t *q, int n_ids, void *pos_base, size_t pos_stride)
+{
+    memset(q, 0, sizeof *q);
+    q->pos_base = pos_base, q->pos_stride = pos_stride;
+    q->n_buckets = N_BUCKETS;
+    /* every id at most once: the heap never grows (untouched pages cost nothing) */
+    q->heap_cap = n_ids > 0 ? n_ids : 1;
+    q->heap = malloc(sizeof *q->heap * (size_t)q->heap_cap);
+    q->bucket = calloc(N_BUCKETS, sizeof *q->bucket);
+    q->filled = calloc((N_BUCKETS + 63) / 64, sizeof *q->filled);
+    if (!q->heap || !q->bucket || !q->filled) {
+        s003_queue_free(q);
+        return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for the queue");
+    }
+    return PP5_OK;
+}
+
+void s003_queue_free(s003_queue_t *q)
+{
+    for (int b = 0; q->bucket && b < q->n_buckets; b++)
+        free(q->bucket[b].e);
+    free(q->heap), free(q->bucket), free(q->filled);
+    memset(q, 0, sizeof *q);
+}
+
+static inline bool entry_less(const s003_qentry_t *x, const s003_qentry_t *y)
+{
+    return x->cost < y->cost || (x->cost == y->cost && x->tie < y->tie);
+}
+
+static inline void heap_place(s003_queue_t *q, int i, const s003_qentry_t *e)
+{
+    q->heap[i] = *e;
+    *s003_queue_pos(q, e->id) = i;
+}
+
+static void sift_up(s003_queue_t *q, int i, s003_qentry_t e)
+{
+    while (i > 0) {
+        int up = (i - 1) / 4;
+        if (!entry_less(&e, &q->heap[up]))
+            break;
+        heap_place(q, i, &q->heap[up]);
+        i = up;
+    }
+    heap_place(q, i, &e);
+}
+
+static void sift_down(s003_queue_t *q, int i, s003_qentry_t e)
+{
+    for (;;) {
+        int c = 4 * i + 1, end = c + 4 < q->heap_n ? c + 4 : q->heap_n;
+        if (c >= q->heap_n)
+            break;
+        for (int j = c + 1; j < end; j++)
+            if (entry_less(&q->heap[j], &q->heap[c]))
+                c = j;
+        if (!entry_less(&q->heap[c], &e))
+            break;
+        heap_place(q, i, &q->heap[c]);
+        i = c;
+    }
+    heap_place(q, i, &e);
+}
+
+static void heap_remove_at(s003_queue_t *q, int i)
+{
+    s003_qentry_t last = q->heap[--q->heap_n];
+    if (i == q->heap_n)
+        return;
+    if (entry_less(&last, &q->heap[i]))
+        sift_up(q, i, last);
+    else
+        sift_down(q, i, last);
+}
+
+static pp5_status_t bucket_append(s003_queue_t *q, int b, const s003_qentry_t *e)
+{
+    s003_bucket_t *bk = &q->bucket[b];
+    if (bk->n == bk->cap) {
+        int cap = bk->cap ? 2 * bk->cap : 16;
+        s003_qentry_t *ne = realloc(bk->e, sizeof *ne * (size_t)cap);
+        if (!ne)
+            return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for the queue");
+        bk->e = ne, bk->cap = cap;
+    }
+    *s003_queue_pos(q, e->id) = bucket_pos(b, bk->n);
+    bk->e[bk->n++] = *e;
+    q->filled[b >> 6] |= (uint64_t)1 << (b & 63);
+    return PP5_OK;
+}
+
+pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie)
+{
+    s003_qentry_t e = {cost == cost ? cost : INFINITY, tie, id, 0};
+    int64_t pos = *s003_queue_pos(q, id);
+    int b = bucket_of(e.cost);
+    if (pos == S003_QPOS_NONE)
+        q->live++;
+    if (b < q->front) {   /* the heap's range */
+        if (pos >= 0 && entry_less(&e, &q->heap[pos]))
+            sift_up(q, (int)pos, e);
+        else if (pos >= 0)
+            sift_down(q, (int)pos, e);
+        else
+            sift_up(q, q->heap_n++, e);
+        return PP5_OK;
+    }
+    if (pos >= 0) {
+        heap_remove_at(q, (int)pos);
+    } else if (pos != S003_QPOS_NONE) {
+        int pb, pi;
+        bucket_pos_split(pos, &pb, &pi);
+        if (pb == b) {   /* a bucket is unsorted: the entry changes in place */
+            q->bucket[b].e[pi] = e;
+            return PP5_OK;
+        }
+    }
+    return bucket_append(q, b, &e);   /* an old entry elsewhere is left behind, stale */
+}
+
+void s003_queue_remove(s003_queue_t *q, int id)
+{
+    int64_t *pos = s003_queue_pos(q, id), at = *pos;
+    if (at == S003_QPOS_NONE)
+        return;
+    *pos = S003_QPOS_NONE;
+    q->live--;
+    if (at >= 0)
+        heap_remove_at(q, (int)at);
+}
+
+s003_qentry_t s003_queue_key(const s003_queue_t *q, int id)
+{
+    int64_t pos = *s003_queue_pos(q, id);
+    if (pos >= 0)
+        return q->heap[pos];
+    int b, i;
+    bucket_pos_split(pos, &b, &i);
+    return q->bucket[b].e[i];
+}
+
+/* The first bucket from b on that may hold entries, or -1. */
+static int next_filled(const s003_queue_t *q, int b)
+{
+    for (int w = b >> 6; w < (q->n_buckets + 63) / 64; w++) {
+        uint64_t bits = q->filled[w];
+        if (w == b >> 6)
+            bits &= ~(uint64_t)0 << (b & 63);
+        if (bits)
+            return 64 * w + __builtin_ctzll(bits);
+    }
+    return -1;
+}
+
+static void bucket_empty(s003_queue_t *q, int b)
+{
+    q->bucket[b].n = 0;
+    q->filled[b >> 6] &= ~((uint64_t)1 << (b & 63));
+}
+
+/* Moves bucket b's entries that are still current into the empty heap. */
+static void bucket_to_heap(s003_queue_t *q, int b)
+{
+    const s003_bucket_t *bk = &q->bucket[b];
+    enum { AHEAD = 8 };   /* positions are in records scattered over memory */
+    for (int i = 0; i < bk->n; i++) {
+        if (i + AHEAD < bk->n)
+            __builtin_prefetch(s003_queue_pos(q, bk->e[i + AHEAD].id));
+        if (*s003_queue_pos(q, bk->e[i].id) == bucket_pos(b, i))
+            heap_place(q, q->heap_n++, &bk->e[i]);
+    }
+    bucket_empty(q, b);
+    for (int i = (q->heap_n - 2) / 4; i >= 0 && q->heap_n > 1; i--)
+        sift_down(q, i, q->heap[i]);
+}
+
+bool s003_queue_top(s003_queue_t *q, s003_qentry_t *top)
+{
+    while (q->heap_n == 0) {
+        int b = q->live > 0 ? next_filled(q, q->front) : -1;
+        if (b < 0) {   /* empty: the next keys may start anywhere */
+            for (b = next_filled(q, 0); b >= 0; b = next_filled(q, b + 1))
+                bucket_empty(q, b);
+            q->front = 0;
+            return false;
+        }
+        q->front = b + 1;
+        bucket_to_heap(q, b);
+    }
+    *top = q->heap[0];
+    return true;
+}
+
+void s003_queue_clear(s003_queue_t *q)
+{
+    for (int i = 0; i < q->heap_n; i++)
+        *s003_queue_pos(q, q->heap[i].id) = S003_QPOS_NONE;
+    for (int b = next_filled(q, 0); b >= 0; b = next_filled(q, b + 1)) {
+        const s003_bucket_t *bk = &q->bucket[b];
+        for (int i = 0; i < bk->n && q->live > 0; i++)
+            if (*s003_queue_pos(q, bk->e[i].id) == bucket_pos(b, i))
+                *s003_queue_pos(q, bk->e[i].id) = S003_QPOS_NONE;
+        bucket_empty(q, b);
+    }
+    q->heap_n = 0, q->front = 0, q->live = 0;
+}
