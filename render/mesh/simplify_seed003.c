@@ -65,6 +65,8 @@ typedef struct {
     s003_queue_t queue;           /* edges by their corner ids (the shared queue is not used) */
     int32_t *dlist;
     int dn, dcap;
+    struct requeue *requeue_list; /* the edges a deletion re-queues (s003_refresh) */
+    size_t requeue_cap;
     double ring_table[S003_RING_TABLE_SIZE];
 } s003_t;
 
@@ -550,38 +552,88 @@ static pp5_status_t queue_all_edges(s003_t *s)
     return st;
 }
 
-/* Re-costs the edges at x; an edge between two marked vertices goes from
- * its smaller end only.  In x's fan (counter-clockwise) corner i is the edge
- * x -> r_i and the corner before it holds the twin r_i -> x. */
-static pp5_status_t s003_requeue_at(s003_t *s, int x)
+/* An edge to re-queue after a deletion: its canonical corner (sw_edge_id),
+ * its other corner (-1 on a boundary), its ends (a < b), and whether an end
+ * is the new vertex. */
+typedef struct requeue {
+    int32_t id, twin, a, b;
+    bool at_new;
+} requeue_t;
+
+/* The update set of a deletion is marked with mark_epoch (a vertex that
+ * freezes now) or mark_epoch + 1 (one frozen before, this epoch). */
+static bool in_update_set(const s003_t *s, int y)
+{
+    return (s->mark[y] | 1) == (s->mark_epoch | 1);
+}
+
+static bool frozen_before(const s003_t *s, int y)
+{
+    return in_update_set(s, y) ? s->mark[y] & 1 : s->frozen[y] == s->epoch;
+}
+
+static void requeue_add(s003_t *s, requeue_t *list, int *n, int id, int twin, int x, int y, int v)
+{
+    /* the record is read when the list is worked through: fetched now, the
+     * records of all the edges come in together */
+    __builtin_prefetch(&s->hot[id]);
+    list[(*n)++] = (requeue_t){id, twin, x < y ? x : y, x < y ? y : x, x == v || y == v};
+}
+
+/* The edges at x to re-queue; an edge between two vertices of the update
+ * set goes from its smaller end only.  In x's fan (counter-clockwise)
+ * corner i is the edge x -> r_i and the corner before it holds the twin
+ * r_i -> x.  An edge whose ends both froze before this deletion, neither
+ * of them the new vertex v, is left out: when its second end froze it was
+ * set aside for the thaw, with its twin, and the twin has not changed (the
+ * faces of an edge change only in a merge at one of its ends, and only
+ * edges at v change their corners). */
+static int requeue_collect_at(s003_t *s, int x, int v, requeue_t *list, int n)
 {
     sw_t *w = s->w;
     const int32_t *fan = sw_fan(w, x);
-    int n = w->fan_n[x];
+    int k = w->fan_n[x];
     uint8_t kind = w->fan_kind[x];
-    pp5_status_t st = PP5_OK;
-    for (int i = 0; i < n && st == PP5_OK; i++) {
+    bool x_before = x != v && frozen_before(s, x);
+    for (int i = 0; i < k; i++) {
         int out = fan[i], y = w->nextv[out], in;
         if (kind == SW_FAN_BROKEN)
             in = sw_find_corner(w, y, x);
         else
-            in = i > 0 ? sw_prev(fan[i - 1]) : kind == SW_FAN_CYCLE ? sw_prev(fan[n - 1]) : -1;
-        if (!(s->mark[y] == s->mark_epoch && y < x && in >= 0)) {
+            in = i > 0 ? sw_prev(fan[i - 1]) : kind == SW_FAN_CYCLE ? sw_prev(fan[k - 1]) : -1;
+        if (!(in_update_set(s, y) && y < x && in >= 0) &&
+            !(x_before && y != v && frozen_before(s, y))) {
             int id = x < y || in < 0 ? out : in;
-            st = s003_queue(s, id, id == out ? in : out);
+            requeue_add(s, list, &n, id, id == out ? in : out, x, y, v);
         }
         /* a boundary edge into x from outside the set is no out-edge of the set */
-        int pc = sw_prev(out);
-        if (st == PP5_OK && kind != SW_FAN_CYCLE && s->mark[w->tri[pc]] != s->mark_epoch &&
-            sw_corner_on_boundary(w, pc))
-            st = s003_queue(s, pc, -1);
+        int pc = sw_prev(out), z = w->tri[pc];
+        if (kind != SW_FAN_CYCLE && !in_update_set(s, z) && sw_corner_on_boundary(w, pc) &&
+            !(x_before && frozen_before(s, z)))
+            requeue_add(s, list, &n, pc, -1, z, x, v);
     }
-    return st;
+    return n;
+}
+
+/* s003_queue for a listed edge.  Only an edge at the new vertex can have
+ * changed its canonical corner, so only there can the twin be queued. */
+static pp5_status_t requeue(s003_t *s, const requeue_t *e)
+{
+    if (e->at_new && e->twin >= 0)
+        s003_forget(s, e->twin);
+    if (s003_frozen(s, e->a, e->b)) {
+        queue_drop(s, e->id);
+        s->hot[e->id].twin = e->twin;
+        return s003_defer(s, e->id, S003_DEFERRED_DIRTY);
+    }
+    return s003_cost(s, e->id, e->twin, e->a, e->b, false);
 }
 
 /* After deleting an edge into v: v inherits the higher importance; v and
  * its ring freeze; every edge with an end in {v} u ring is re-costed (their
- * stencils, D, S and L terms reach only that far: ARCHITECTURE.md). */
+ * stencils, D, S and L terms reach only that far: ARCHITECTURE.md).  The
+ * edges are listed first and then re-queued in the same order, so the
+ * records they read are fetched side by side. */
 static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
 {
     sw_t *w = s->w;
@@ -591,21 +643,35 @@ static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m
     if (s->importance[gone] > s->importance[v])
         s->importance[v] = s->importance[gone];
     s->corner[v] |= s->corner[gone];
-    if (++s->mark_epoch == 0)
-        memset(s->mark, 0, sizeof *s->mark * (size_t)w->nv), s->mark_epoch = 1;
+    if (s->mark_epoch >= UINT32_MAX - 2)
+        memset(s->mark, 0, sizeof *s->mark * (size_t)w->nv), s->mark_epoch = 0;
+    s->mark_epoch += 2;
     int32_t set[SW_MAX_FAN + 2];
     int n = 0;
     set[n++] = v;
     for (int i = 0; i < m->n_ring; i++)
         set[n++] = m->ring[i];
     for (int i = 0; i < n; i++) {
-        s->mark[set[i]] = s->mark_epoch;
+        bool before = s->o->s003_independent_sets && s->frozen[set[i]] == s->epoch;
+        s->mark[set[i]] = s->mark_epoch + before;
         if (s->o->s003_independent_sets)
             s->frozen[set[i]] = s->epoch;
     }
+    size_t most = 0;   /* each vertex lists at most two edges per corner */
+    for (int i = 0; i < n; i++)
+        most += 2 * (size_t)w->fan_n[set[i]];
+    if (most > s->requeue_cap) {
+        requeue_t *nl = realloc(s->requeue_list, sizeof *nl * most);
+        if (!nl)
+            return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for re-queued edges");
+        s->requeue_list = nl, s->requeue_cap = most;
+    }
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        k = requeue_collect_at(s, set[i], v, s->requeue_list, k);
     pp5_status_t st = PP5_OK;
-    for (int i = 0; i < n && st == PP5_OK; i++)
-        st = s003_requeue_at(s, set[i]);
+    for (int i = 0; i < k && st == PP5_OK; i++)
+        st = requeue(s, &s->requeue_list[i]);
     return st;
 }
 
@@ -756,6 +822,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
     free(s->hot), free(s->dcost), free(s->dtie), free(s->dlist), free(s->newp);
+    free(s->requeue_list);
     s003_queue_free(&s->queue);
     free(s);
     return st;
