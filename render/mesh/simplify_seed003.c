@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "seed003_alloc.h"
 #include "seed003_queue.h"
 #include "seed003_stencil.h"
 
@@ -792,10 +793,10 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     s->corner = calloc(nv, 1);
     s->frozen = calloc(nv, sizeof *s->frozen);
     s->mark = calloc(nv, sizeof *s->mark);
-    s->hot = calloc(nc, sizeof *s->hot);
+    s->hot = s003_alloc_big(nc * sizeof *s->hot, false);
     s->dcost = malloc(sizeof *s->dcost * nc);
     s->dtie = malloc(sizeof *s->dtie * nc);
-    s->newp = malloc(sizeof *s->newp * 3 * nc);
+    s->newp = s003_alloc_big(sizeof *s->newp * 3 * nc, false);
     pp5_status_t st = PP5_OK;
     if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->hot ||
         !s->dcost || !s->dtie || !s->newp)
@@ -805,7 +806,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     sw_queue_free(&w->queue);
     if (st == PP5_OK) {
         for (size_t c = 0; c < nc; c++)
-            s->hot[c].qpos = S003_QPOS_NONE;
+            s->hot[c] = (s003_corner_t){.qpos = S003_QPOS_NONE, .twin = -1};
         st = s003_queue_init(&s->queue, (int)nc, &s->hot[0].qpos, sizeof *s->hot);
     }
     s->mean_edge = st == PP5_OK ? measure_all(s) : 1.0;
