@@ -23,3 +23,14 @@ void *s003_alloc_big(size_t bytes, bool zero)
         memset(p, 0, whole);
     return p;
 }
+
+void *s003_grow_big(void *old, size_t used, size_t bytes)
+{
+    void *p = s003_alloc_big(bytes, false);
+    if (!p)
+        return NULL;
+    if (used)
+        memcpy(p, old, used);
+    free(old);
+    return p;
+}

@@ -17,5 +17,8 @@
  * From 2 MB up it is aligned to 2 MB and asks the kernel for huge pages
  * (where it has them); smaller arrays are plain malloc. */
 void *s003_alloc_big(size_t bytes, bool zero);
+/* A larger array from s003_alloc_big holding the first `used` bytes of
+ * old, which is freed; NULL (old kept) if out of memory. */
+void *s003_grow_big(void *old, size_t used, size_t bytes);
 
 #endif

@@ -10,6 +10,8 @@
  * one bucket of keys. */
 #include "seed003_queue.h"
 
+#include "seed003_alloc.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,16 +36,10 @@ static int bucket_of(double cost)
     return 1 + (int)((bits - low) >> (52 - BUCKET_STEPS_LOG2));
 }
 
-/* A bucket entry's position: below S003_QPOS_NONE, so apart from heap slots. */
-static int64_t bucket_pos(int b, int i)
+/* A chunk entry's position: below S003_QPOS_NONE, so apart from heap slots. */
+static int64_t entry_pos(int64_t entry)
 {
-    return -2 - ((int64_t)b << 32 | (uint32_t)i);
-}
-
-static void bucket_pos_split(int64_t pos, int *b, int *i)
-{
-    int64_t v = -2 - pos;
-    *b = (int)(v >> 32), *i = (int)(uint32_t)v;
+    return -2 - entry;
 }
 
 pp5_status_t s003_queue_init(s003_queue_t *q, int n_ids, void *pos_base, size_t pos_stride)
@@ -54,20 +50,25 @@ pp5_status_t s003_queue_init(s003_queue_t *q, int n_ids, void *pos_base, size_t 
     /* every id at most once: the heap never grows (untouched pages cost nothing) */
     q->heap_cap = n_ids > 0 ? n_ids : 1;
     q->heap = malloc(sizeof *q->heap * (size_t)q->heap_cap);
-    q->bucket = calloc(N_BUCKETS, sizeof *q->bucket);
+    q->bucket = malloc(sizeof *q->bucket * N_BUCKETS);
     q->filled = calloc((N_BUCKETS + 63) / 64, sizeof *q->filled);
-    if (!q->heap || !q->bucket || !q->filled) {
+    /* room for about two entries per id; more chunks if needed */
+    q->chunk_cap = n_ids / (S003_CHUNK / 2) + 64;
+    q->entry = s003_alloc_big(sizeof *q->entry * S003_CHUNK * (size_t)q->chunk_cap, false);
+    q->chunk_next = malloc(sizeof *q->chunk_next * (size_t)q->chunk_cap);
+    if (!q->heap || !q->bucket || !q->filled || !q->entry || !q->chunk_next) {
         s003_queue_free(q);
         return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for the queue");
     }
+    for (int b = 0; b < N_BUCKETS; b++)
+        q->bucket[b] = (s003_bucket_t){-1, 0};
+    q->free_chunk = -1;
     return PP5_OK;
 }
 
 void s003_queue_free(s003_queue_t *q)
 {
-    for (int b = 0; q->bucket && b < q->n_buckets; b++)
-        free(q->bucket[b].e);
-    free(q->heap), free(q->bucket), free(q->filled);
+    free(q->heap), free(q->bucket), free(q->filled), free(q->entry), free(q->chunk_next);
     memset(q, 0, sizeof *q);
 }
 
@@ -122,25 +123,49 @@ static void heap_remove_at(s003_queue_t *q, int i)
         sift_down(q, i, last);
 }
 
+/* A free chunk, or -1 (out of memory). */
+static int chunk_new(s003_queue_t *q)
+{
+    if (q->free_chunk >= 0) {
+        int c = q->free_chunk;
+        q->free_chunk = q->chunk_next[c];
+        return c;
+    }
+    if (q->n_chunks == q->chunk_cap) {   /* a copy, so the new array is on huge pages too */
+        int cap = 2 * q->chunk_cap;
+        int32_t *nn = realloc(q->chunk_next, sizeof *nn * (size_t)cap);
+        if (!nn)
+            return -1;
+        q->chunk_next = nn;
+        s003_qentry_t *ne = s003_grow_big(q->entry, sizeof *ne * S003_CHUNK * (size_t)q->n_chunks,
+                                          sizeof *ne * S003_CHUNK * (size_t)cap);
+        if (!ne)
+            return -1;
+        q->entry = ne, q->chunk_cap = cap;
+    }
+    return q->n_chunks++;
+}
+
 static pp5_status_t bucket_append(s003_queue_t *q, int b, const s003_qentry_t *e)
 {
     s003_bucket_t *bk = &q->bucket[b];
-    if (bk->n == bk->cap) {
-        int cap = bk->cap ? 2 * bk->cap : 16;
-        s003_qentry_t *ne = realloc(bk->e, sizeof *ne * (size_t)cap);
-        if (!ne)
+    if (bk->chunk < 0 || bk->n == S003_CHUNK) {
+        int c = chunk_new(q);
+        if (c < 0)
             return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for the queue");
-        bk->e = ne, bk->cap = cap;
+        q->chunk_next[c] = bk->chunk;
+        bk->chunk = c, bk->n = 0;
     }
-    *s003_queue_pos(q, e->id) = bucket_pos(b, bk->n);
-    bk->e[bk->n++] = *e;
+    int64_t at = (int64_t)bk->chunk * S003_CHUNK + bk->n++;
+    *s003_queue_pos(q, e->id) = entry_pos(at);
+    q->entry[at] = *e;
     q->filled[b >> 6] |= (uint64_t)1 << (b & 63);
     return PP5_OK;
 }
 
-pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie)
+pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie, int32_t data)
 {
-    s003_qentry_t e = {cost == cost ? cost : INFINITY, tie, id, 0};
+    s003_qentry_t e = {cost == cost ? cost : INFINITY, tie, id, data};
     int64_t pos = *s003_queue_pos(q, id);
     int b = bucket_of(e.cost);
     if (pos == S003_QPOS_NONE)
@@ -154,15 +179,11 @@ pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie)
             sift_up(q, q->heap_n++, e);
         return PP5_OK;
     }
-    if (pos >= 0) {
+    if (pos >= 0)
         heap_remove_at(q, (int)pos);
-    } else if (pos != S003_QPOS_NONE) {
-        int pb, pi;
-        bucket_pos_split(pos, &pb, &pi);
-        if (pb == b) {   /* a bucket is unsorted: the entry changes in place */
-            q->bucket[b].e[pi] = e;
-            return PP5_OK;
-        }
+    else if (pos != S003_QPOS_NONE && bucket_of(q->entry[-2 - pos].cost) == b) {
+        q->entry[-2 - pos] = e;   /* a bucket is unsorted: the entry changes in place */
+        return PP5_OK;
     }
     return bucket_append(q, b, &e);   /* an old entry elsewhere is left behind, stale */
 }
@@ -181,11 +202,7 @@ void s003_queue_remove(s003_queue_t *q, int id)
 s003_qentry_t s003_queue_key(const s003_queue_t *q, int id)
 {
     int64_t pos = *s003_queue_pos(q, id);
-    if (pos >= 0)
-        return q->heap[pos];
-    int b, i;
-    bucket_pos_split(pos, &b, &i);
-    return q->bucket[b].e[i];
+    return pos >= 0 ? q->heap[pos] : q->entry[-2 - pos];
 }
 
 /* The first bucket from b on that may hold entries, or -1. */
@@ -201,9 +218,16 @@ static int next_filled(const s003_queue_t *q, int b)
     return -1;
 }
 
+/* Bucket b is emptied; its chunks are free again. */
 static void bucket_empty(s003_queue_t *q, int b)
 {
-    q->bucket[b].n = 0;
+    s003_bucket_t *bk = &q->bucket[b];
+    for (int c = bk->chunk, next; c >= 0; c = next) {
+        next = q->chunk_next[c];
+        q->chunk_next[c] = q->free_chunk;
+        q->free_chunk = c;
+    }
+    *bk = (s003_bucket_t){-1, 0};
     q->filled[b >> 6] &= ~((uint64_t)1 << (b & 63));
 }
 
@@ -211,12 +235,13 @@ static void bucket_empty(s003_queue_t *q, int b)
 static void bucket_to_heap(s003_queue_t *q, int b)
 {
     const s003_bucket_t *bk = &q->bucket[b];
-    enum { AHEAD = 8 };   /* positions are in records scattered over memory */
-    for (int i = 0; i < bk->n; i++) {
-        if (i + AHEAD < bk->n)
-            __builtin_prefetch(s003_queue_pos(q, bk->e[i + AHEAD].id));
-        if (*s003_queue_pos(q, bk->e[i].id) == bucket_pos(b, i))
-            heap_place(q, q->heap_n++, &bk->e[i]);
+    for (int c = bk->chunk, n = bk->n; c >= 0; c = q->chunk_next[c], n = S003_CHUNK) {
+        const s003_qentry_t *e = q->entry + (int64_t)c * S003_CHUNK;
+        for (int i = 0; i < n; i++)   /* positions are in records scattered over memory */
+            __builtin_prefetch(s003_queue_pos(q, e[i].id));
+        for (int i = 0; i < n; i++)
+            if (*s003_queue_pos(q, e[i].id) == entry_pos((int64_t)c * S003_CHUNK + i))
+                heap_place(q, q->heap_n++, &e[i]);
     }
     bucket_empty(q, b);
     for (int i = (q->heap_n - 2) / 4; i >= 0 && q->heap_n > 1; i--)
@@ -228,9 +253,11 @@ bool s003_queue_top(s003_queue_t *q, s003_qentry_t *top)
     while (q->heap_n == 0) {
         int b = q->live > 0 ? next_filled(q, q->front) : -1;
         if (b < 0) {   /* empty: the next keys may start anywhere */
-            for (b = next_filled(q, 0); b >= 0; b = next_filled(q, b + 1))
-                bucket_empty(q, b);
-            q->front = 0;
+            for (b = next_filled(q, 0); b >= 0; b = next_filled(q, b + 1)) {
+                q->bucket[b] = (s003_bucket_t){-1, 0};
+                q->filled[b >> 6] &= ~((uint64_t)1 << (b & 63));
+            }
+            q->front = 0, q->n_chunks = 0, q->free_chunk = -1;
             return false;
         }
         q->front = b + 1;
@@ -246,10 +273,14 @@ void s003_queue_clear(s003_queue_t *q)
         *s003_queue_pos(q, q->heap[i].id) = S003_QPOS_NONE;
     for (int b = next_filled(q, 0); b >= 0; b = next_filled(q, b + 1)) {
         const s003_bucket_t *bk = &q->bucket[b];
-        for (int i = 0; i < bk->n && q->live > 0; i++)
-            if (*s003_queue_pos(q, bk->e[i].id) == bucket_pos(b, i))
-                *s003_queue_pos(q, bk->e[i].id) = S003_QPOS_NONE;
+        for (int c = bk->chunk, n = bk->n; c >= 0; c = q->chunk_next[c], n = S003_CHUNK)
+            for (int i = 0; i < n; i++) {
+                int64_t at = (int64_t)c * S003_CHUNK + i;
+                if (*s003_queue_pos(q, q->entry[at].id) == entry_pos(at))
+                    *s003_queue_pos(q, q->entry[at].id) = S003_QPOS_NONE;
+            }
         bucket_empty(q, b);
     }
     q->heap_n = 0, q->front = 0, q->live = 0;
+    q->n_chunks = 0, q->free_chunk = -1;
 }

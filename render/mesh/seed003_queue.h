@@ -11,7 +11,9 @@
  * above).  Putting a key in a bucket or taking it out costs O(1); a bucket
  * is sorted (heapified) only when the heap runs dry and it is the lowest
  * left.  Every key of a bucket is above every key of the buckets below it,
- * so the heap's least entry is the least of all.
+ * so the heap's least entry is the least of all.  Buckets are chains of
+ * fixed chunks from one array on huge pages (seed003_alloc.h): appends to
+ * hundreds of buckets at once touch few pages.
  *
  * Where an id is queued (a heap slot or a bucket entry) is kept in a field
  * of the caller's per-id record (pos_base + id * pos_stride), so the
@@ -29,12 +31,14 @@
 typedef struct {
     double cost;
     uint64_t tie;          /* equal costs break on this (lower vertex ids first) */
-    int32_t id, unused;
+    int32_t id;
+    int32_t data;          /* the caller's, carried with the key */
 } s003_qentry_t;
 
+/* A bucket: its newest chunk (-1: none) holding n entries; the chunks
+ * before it (chunk_next) are full. */
 typedef struct {
-    s003_qentry_t *e;
-    int n, cap;
+    int32_t chunk, n;
 } s003_bucket_t;
 
 typedef struct {
@@ -42,6 +46,9 @@ typedef struct {
     int heap_n, heap_cap;
     s003_bucket_t *bucket;
     uint64_t *filled;      /* one bit per bucket that may hold entries */
+    s003_qentry_t *entry;  /* the chunks' entries, S003_CHUNK per chunk */
+    int32_t *chunk_next;
+    int n_chunks, chunk_cap, free_chunk;
     int n_buckets;
     int front;             /* buckets below it have been emptied into the heap */
     int live;              /* ids queued */
@@ -49,14 +56,16 @@ typedef struct {
     size_t pos_stride;
 } s003_queue_t;
 
+enum { S003_CHUNK = 16 };   /* entries per chunk: six cache lines */
+
 /* Not queued (the value every position field must start with). */
 #define S003_QPOS_NONE ((int64_t)-1)
 
 /* Ids 0 .. n_ids-1, each with its position field at pos_base + id * pos_stride. */
 pp5_status_t s003_queue_init(s003_queue_t *q, int n_ids, void *pos_base, size_t pos_stride);
 void s003_queue_free(s003_queue_t *q);
-/* Queues id under (cost, tie) or moves it there; NaN sorts last. */
-pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie);
+/* Queues id under (cost, tie) with data, or moves it there; NaN sorts last. */
+pp5_status_t s003_queue_set(s003_queue_t *q, int id, double cost, uint64_t tie, int32_t data);
 void s003_queue_remove(s003_queue_t *q, int id);
 /* The least entry, left in place; false if the queue is empty. */
 bool s003_queue_top(s003_queue_t *q, s003_qentry_t *top);

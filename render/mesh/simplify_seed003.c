@@ -21,8 +21,9 @@
 
 static const double PI = 3.14159265358979323846;
 
-/* Queue ids (edge corners) set aside while frozen (§2.3). */
-enum { S003_LIVE = 0, S003_DEFERRED, S003_DEFERRED_DIRTY };
+/* Queue ids (edge corners) set aside while frozen (§2.3), to be costed
+ * at the thaw. */
+enum { S003_LIVE = 0, S003_DEFERRED };
 
 /* What re-costing an edge reads and writes of its corner c (the edge
  * tri[c] -> nextv[c]), side by side: 32 bytes on one cache line, not a
@@ -57,12 +58,12 @@ typedef struct {
     int phase;
     bool lazy;                    /* asked for, and Cd >= 0 in both phases: the bound holds */
     s003_corner_t *hot;           /* per corner */
-    /* frozen edges: popped ones keep their key (per corner); re-costed ones
-     * are evaluated once, when they thaw (nothing they depend on can change
-     * before then without re-costing them again) */
-    double *dcost;
-    uint64_t *dtie;
-    double *newp;                 /* per queued edge with its cost: the point it was costed at */
+    /* The new points edges were costed at, in the order of costing; a
+     * costed edge's queue entry carries the index of its point.  Emptied
+     * whenever the queue is (the thaw, the phase switch): written in turn,
+     * not scattered over a per-corner array. */
+    double *points;
+    int n_points, points_cap;
     s003_queue_t queue;           /* edges by their corner ids (the shared queue is not used) */
     int32_t *dlist;
     int dn, dcap;
@@ -438,7 +439,7 @@ static bool s003_frozen(const s003_t *s, int a, int b)
     return s->o->s003_independent_sets && s->frozen[a] == s->epoch && s->frozen[b] == s->epoch;
 }
 
-static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
+static pp5_status_t s003_defer(s003_t *s, int id)
 {
     if (s->hot[id].dstate == S003_LIVE) {
         if (s->dn == s->dcap) {
@@ -450,7 +451,7 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
         }
         s->dlist[s->dn++] = id;
     }
-    s->hot[id].dstate = state;
+    s->hot[id].dstate = S003_DEFERRED;
     return PP5_OK;
 }
 
@@ -459,7 +460,7 @@ static pp5_status_t s003_defer(s003_t *s, int id, uint8_t state)
  * edges were queued in or on how the queue keeps them. */
 static pp5_status_t queue_put(s003_t *s, int id, double cost, uint64_t tie)
 {
-    return s003_queue_set(&s->queue, id, cost, tie);
+    return s003_queue_set(&s->queue, id, cost, tie, -1);
 }
 
 static void queue_drop(s003_t *s, int id)
@@ -495,8 +496,16 @@ static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool no
     }
     double F;
     s->hot[id].dirty = 0;
-    if (s003_evaluate(s, id, a, b, s->newp + 3 * (size_t)id, &F))
-        return queue_put(s, id, F, sw_edge_tie(a, b));
+    if (s->n_points == s->points_cap) {
+        int cap = 2 * s->points_cap;
+        double *np = s003_grow_big(s->points, sizeof *np * 3 * (size_t)s->n_points,
+                                   sizeof *np * 3 * (size_t)cap);
+        if (!np)
+            return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for new points");
+        s->points = np, s->points_cap = cap;
+    }
+    if (s003_evaluate(s, id, a, b, s->points + 3 * (size_t)s->n_points, &F))
+        return s003_queue_set(&s->queue, id, F, sw_edge_tie(a, b), s->n_points++);
     queue_drop(s, id);
     return PP5_OK;
 }
@@ -517,7 +526,7 @@ static pp5_status_t s003_queue(s003_t *s, int id, int twin)
     if (s003_frozen(s, a, b)) {
         queue_drop(s, id);
         s->hot[id].twin = twin;
-        return s003_defer(s, id, S003_DEFERRED_DIRTY);
+        return s003_defer(s, id);
     }
     return s003_cost(s, id, twin, a, b, false);
 }
@@ -625,7 +634,7 @@ static pp5_status_t requeue(s003_t *s, const requeue_t *e)
     if (s003_frozen(s, e->a, e->b)) {
         queue_drop(s, e->id);
         s->hot[e->id].twin = e->twin;
-        return s003_defer(s, e->id, S003_DEFERRED_DIRTY);
+        return s003_defer(s, e->id);
     }
     return s003_cost(s, e->id, e->twin, e->a, e->b, false);
 }
@@ -682,17 +691,15 @@ static pp5_status_t s003_thaw(s003_t *s)
     sw_t *w = s->w;
     pp5_status_t st = PP5_OK;
     s->epoch++;
+    s->n_points = 0;   /* the queue is empty: no costed edge needs its point */
     w->stats->unfreezes++;
     for (int i = 0; i < s->dn && st == PP5_OK; i++) {
         int id = s->dlist[i];
-        uint8_t state = s->hot[id].dstate;
+        if (s->hot[id].dstate != S003_DEFERRED)
+            continue;   /* forgotten since it was set aside */
         s->hot[id].dstate = S003_LIVE;
-        if (state == S003_DEFERRED) {
-            st = queue_put(s, id, s->dcost[id], s->dtie[id]);
-        } else if (state == S003_DEFERRED_DIRTY) {
-            int a = w->tri[id], b = w->nextv[id];
-            st = s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
-        }
+        int a = w->tri[id], b = w->nextv[id];
+        st = s003_cost(s, id, s->hot[id].twin, a < b ? a : b, a < b ? b : a, false);
     }
     s->dn = 0;
     return st;
@@ -705,6 +712,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
     s->phase = 1;
     w->stats->phase_switch_merge = w->stats->merges;
     s003_queue_clear(&s->queue);
+    s->n_points = 0;
     for (int i = 0; i < s->dn; i++)
         s->hot[s->dlist[i]].dstate = S003_LIVE;
     s->dn = 0;
@@ -724,14 +732,17 @@ static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
         a = b, b = t;
     }
     if (s003_frozen(s, a, b)) {
+        /* Not reached: an edge is set aside when its second end freezes
+         * (s003_refresh).  Were it reached, costing the edge again at the
+         * thaw would find the same cost: anything it depends on that
+         * changes re-queues it, recording its twin. */
         queue_drop(s, e.id);
-        s->dcost[e.id] = e.cost, s->dtie[e.id] = e.tie;
-        return s003_defer(s, e.id, s->hot[e.id].dirty ? S003_DEFERRED_DIRTY : S003_DEFERRED);
+        return s003_defer(s, e.id);
     }
     if (s->hot[e.id].dirty)   /* moves down to its cost, or leaves */
         return s003_cost(s, e.id, -1, a, b, true);
     queue_drop(s, e.id);
-    const double *p = s->newp + 3 * (size_t)e.id;
+    const double *p = s->points + 3 * (size_t)e.data;
     sw_merge_t m;
     int32_t S[2] = {a, b};
     if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
@@ -794,12 +805,11 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     s->frozen = calloc(nv, sizeof *s->frozen);
     s->mark = calloc(nv, sizeof *s->mark);
     s->hot = s003_alloc_big(nc * sizeof *s->hot, false);
-    s->dcost = malloc(sizeof *s->dcost * nc);
-    s->dtie = malloc(sizeof *s->dtie * nc);
-    s->newp = s003_alloc_big(sizeof *s->newp * 3 * nc, false);
+    s->points_cap = (int)(nc / 4) + 64;
+    s->points = s003_alloc_big(sizeof *s->points * 3 * (size_t)s->points_cap, false);
     pp5_status_t st = PP5_OK;
     if (!s->importance || !s->corner || !s->frozen || !s->mark || !s->hot ||
-        !s->dcost || !s->dtie || !s->newp)
+        !s->points)
         st = pp5_fail(PP5_E_NOMEM, "seed003: out of memory");
     /* This run keeps its own queue; without the shared one the merge
      * (sw_apply_merge) has no entries to drop, and take_top drops ours. */
@@ -822,7 +832,7 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (st == PP5_OK)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
-    free(s->hot), free(s->dcost), free(s->dtie), free(s->dlist), free(s->newp);
+    free(s->hot), free(s->dlist), free(s->points);
     free(s->requeue_list);
     s003_queue_free(&s->queue);
     free(s);
