@@ -31,8 +31,9 @@ enum { S003_LIVE = 0, S003_DEFERRED };
  * - len, round: for the faces alive, the edge's length and its face's
  *   roundness for it, so a re-costed edge reads S and L instead of
  *   measuring them;
- * - qpos: where the edge is queued (seed003_queue.h), if it is;
- * - dirty: queued under a lower bound, not yet costed;
+ * - qpos: where the edge is queued (seed003_queue.h), if it is; its
+ *   queue entry carries the index of its new point (points), or -1 while
+ *   it waits under a lower bound, not yet costed;
  * - dstate: frozen (§2.3) and set aside;
  * - twin: for an edge queued under a lower bound or set aside dirty, its
  *   other corner (-1 on a boundary) as it was then.  Still the twin at the
@@ -43,7 +44,7 @@ typedef struct {
     double len, round;
     int64_t qpos;
     int32_t twin;
-    uint8_t dirty, dstate;
+    uint8_t dstate;
 } s003_corner_t;
 
 typedef struct {
@@ -472,7 +473,6 @@ static void s003_forget(s003_t *s, int id)
 {
     queue_drop(s, id);
     s->hot[id].dstate = S003_LIVE;   /* a stale dlist entry is skipped at the thaw */
-    s->hot[id].dirty = 0;
 }
 
 /* Queues live edge id (a < b; twin: its other corner, or -1) under its
@@ -482,20 +482,19 @@ static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool no
     if (!now && s->lazy) {
         double lb = lower_bound(s, id, twin);
         uint64_t tie = sw_edge_tie(a, b);
-        s->hot[id].dirty = 1;
         s->hot[id].twin = twin;
         /* A key already queued at or below the bound (with the same tie) is
-         * still a lower bound of F: left in place, the edge only reaches
-         * the top sooner to be costed, and deletions keep their order. */
+         * still a lower bound of F: left in place (only marked as not
+         * costed), the edge only reaches the top sooner to be costed, and
+         * deletions keep their order. */
         if (s003_queue_has(&s->queue, id)) {
             s003_qentry_t key = s003_queue_key(&s->queue, id);
             if (key.tie == tie && key.cost <= lb)
-                return PP5_OK;
+                return key.data < 0 ? PP5_OK : s003_queue_set(&s->queue, id, key.cost, tie, -1);
         }
         return queue_put(s, id, lb, tie);
     }
     double F;
-    s->hot[id].dirty = 0;
     if (s->n_points == s->points_cap) {
         int cap = 2 * s->points_cap;
         double *np = s003_grow_big(s->points, sizeof *np * 3 * (size_t)s->n_points,
@@ -647,9 +646,16 @@ static pp5_status_t requeue(s003_t *s, const requeue_t *e)
 static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
 {
     sw_t *w = s->w;
+    for (int i = 0; i < m->n_ring; i++)   /* prefetch_update_set's second stage */
+        __builtin_prefetch(sw_fan(w, m->ring[i]));
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)   /* the faces that moved or changed a vertex */
         measure_face_at(s, fan[i]);
+    for (int i = 0; i < m->n_ring; i++) {   /* and its third */
+        const int32_t *rf = sw_fan(w, m->ring[i]);
+        for (int j = 0; j < w->fan_n[m->ring[i]]; j++)
+            __builtin_prefetch(&w->nextv[rf[j]]);
+    }
     if (s->importance[gone] > s->importance[v])
         s->importance[v] = s->importance[gone];
     s->corner[v] |= s->corner[gone];
@@ -739,7 +745,7 @@ static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
         queue_drop(s, e.id);
         return s003_defer(s, e.id);
     }
-    if (s->hot[e.id].dirty)   /* moves down to its cost, or leaves */
+    if (e.data < 0)   /* moves down to its cost, or leaves */
         return s003_cost(s, e.id, -1, a, b, true);
     queue_drop(s, e.id);
     const double *p = s->points + 3 * (size_t)e.data;
@@ -747,11 +753,104 @@ static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
     int32_t S[2] = {a, b};
     if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
         return PP5_OK;   /* the link test, left for now (control_function) */
+    /* The first stage of fetching what the refresh reads: the ring's fan
+     * records, marks and freeze stamps, and the records of the corners of
+     * the faces that stay (measure_face_at).  The fans follow when their
+     * places are in (s003_refresh), each stage behind work that gives the
+     * one before time to arrive. */
+    for (int i = 0; i < m.n_ring; i++) {
+        int r = m.ring[i];
+        __builtin_prefetch(&w->fan_off[r]), __builtin_prefetch(&w->fan_n[r]);
+        __builtin_prefetch(&w->fan_kind[r]), __builtin_prefetch(&s->mark[r]);
+        __builtin_prefetch(&s->frozen[r]);
+    }
+    for (int i = 0; i < m.n_keep; i++) {
+        const s003_corner_t *h = s->hot + 3 * (m.keep[i] / 3);
+        __builtin_prefetch(h), __builtin_prefetch(h + 2);
+    }
     pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
     for (int r = 0; r < m.n_removed; r++)
         for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
             s003_forget(s, c);
     return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
+}
+
+/* Edges waiting under lower bounds that are costed together (cost_batch). */
+enum { COST_BATCH = 8 };
+
+/* Fetches what costing the edges of entries e[0..n) reads (their ends, the
+ * ends' fans, the faces of the fans and their vertices), stage by stage:
+ * each stage reads what the stage before fetched, and the loads of all n
+ * edges in a stage are in flight at once.  An edge costed at the top of
+ * the queue was queued long before, so all of it is cold; fetched as the
+ * costing reached it, each line was a miss waited for on its own.  The
+ * ends of edge i are end[2 i], end[2 i + 1] (so the compiler, which does
+ * not count prefetching as an effect, keeps the function). */
+static void prefetch_neighbourhoods(const s003_t *s, const s003_qentry_t *e, int n, int32_t *end)
+{
+    const sw_t *w = s->w;
+    for (int i = 0; i < n; i++) {
+        __builtin_prefetch(&w->tri[e[i].id]), __builtin_prefetch(&w->nextv[e[i].id]);
+        __builtin_prefetch(&s->hot[e[i].id]);
+    }
+    for (int i = 0; i < n; i++)
+        end[2 * i] = w->tri[e[i].id], end[2 * i + 1] = w->nextv[e[i].id];
+    for (int j = 0; j < 2 * n; j++) {
+        int v = end[j];
+        __builtin_prefetch(&w->fan_off[v]), __builtin_prefetch(&w->fan_n[v]);
+        __builtin_prefetch(&w->pos[3 * v]), __builtin_prefetch(&s->frozen[v]);
+    }
+    for (int j = 0; j < 2 * n; j++)
+        __builtin_prefetch(sw_fan(w, end[j]));
+    for (int j = 0; j < 2 * n; j++) {
+        const int32_t *fan = sw_fan(w, end[j]);
+        for (int i = 0, k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN; i < k; i++) {
+            int c = fan[i], f = c / 3;
+            __builtin_prefetch(&w->nextv[c]), __builtin_prefetch(&w->prevv[c]);
+            __builtin_prefetch(&w->tri[3 * f]), __builtin_prefetch(&w->fnormal[3 * f]);
+        }
+    }
+    /* the vertices around (around an inner vertex each is some corner's
+     * next vertex) and the roundness of the edge's faces */
+    for (int j = 0; j < 2 * n; j++) {
+        const int32_t *fan = sw_fan(w, end[j]);
+        int other = end[j ^ 1];
+        for (int i = 0, k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN; i < k; i++) {
+            int c = fan[i], x = w->nextv[c];
+            __builtin_prefetch(&w->pos[3 * x]);
+            if (x == other)   /* the face before holds the twin, other -> end[j] */
+                __builtin_prefetch(&s->hot[c]), __builtin_prefetch(&s->hot[sw_prev(fan[i ? i - 1 : k - 1])]);
+        }
+    }
+}
+
+/* The edge at the top waits under a lower bound: it and the next ones that
+ * do (up to COST_BATCH) leave the queue, their neighbourhoods are fetched,
+ * and each is costed and queued under its cost.  Nothing changes the mesh
+ * between them, so each gets the cost it would have got alone.  Should the
+ * deletion of one of them come first and reach another, that one is
+ * re-queued as after any deletion, so the deletions keep their order. */
+static pp5_status_t s003_cost_batch(s003_t *s, s003_qentry_t top)
+{
+    s003_qentry_t batch[COST_BATCH];
+    int n = 0;
+    do {
+        batch[n++] = top;
+        queue_drop(s, top.id);
+    } while (n < COST_BATCH && s003_queue_top(&s->queue, &top) && top.data < 0);
+    int32_t end[2 * COST_BATCH];
+    prefetch_neighbourhoods(s, batch, n, end);
+    pp5_status_t st = PP5_OK;
+    for (int i = 0; i < n && st == PP5_OK; i++) {
+        int id = batch[i].id, a = end[2 * i], b = end[2 * i + 1];
+        if (a > b) {
+            int t = a;
+            a = b, b = t;
+        }
+        /* a frozen one as s003_take_top would (not reached) */
+        st = s003_frozen(s, a, b) ? s003_defer(s, id) : s003_cost(s, id, -1, a, b, true);
+    }
+    return st;
 }
 
 static pp5_status_t s003_loop(s003_t *s)
@@ -767,7 +866,7 @@ static pp5_status_t s003_loop(s003_t *s)
         }
         s003_qentry_t top;
         if (s003_queue_top(&s->queue, &top)) {
-            st = s003_take_top(s, top);
+            st = top.data < 0 && s->lazy ? s003_cost_batch(s, top) : s003_take_top(s, top);
             continue;
         }
         if (s->dn == 0)
