@@ -33,7 +33,7 @@ enum { S003_LIVE = 0, S003_DEFERRED };
  *   measuring them;
  * - qpos: where the edge is queued (seed003_queue.h), if it is; its
  *   queue entry carries the index of its new point (points), or -1 while
- *   it waits under a lower bound, not yet costed;
+ *   it waits under a lower bound, not yet costed (waiting, here too);
  * - dstate: frozen (§2.3) and set aside;
  * - twin: for an edge queued under a lower bound or set aside dirty, its
  *   other corner (-1 on a boundary) as it was then.  Still the twin at the
@@ -44,7 +44,7 @@ typedef struct {
     double len, round;
     int64_t qpos;
     int32_t twin;
-    uint8_t dstate;
+    uint8_t dstate, waiting;
 } s003_corner_t;
 
 typedef struct {
@@ -483,6 +483,7 @@ static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool no
         double lb = lower_bound(s, id, twin);
         uint64_t tie = sw_edge_tie(a, b);
         s->hot[id].twin = twin;
+        s->hot[id].waiting = 1;
         /* A key already queued at or below the bound (with the same tie) is
          * still a lower bound of F: left in place (only marked as not
          * costed), the edge only reaches the top sooner to be costed, and
@@ -495,6 +496,7 @@ static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool no
         return queue_put(s, id, lb, tie);
     }
     double F;
+    s->hot[id].waiting = 0;
     if (s->n_points == s->points_cap) {
         int cap = 2 * s->points_cap;
         double *np = s003_grow_big(s->points, sizeof *np * 3 * (size_t)s->n_points,
@@ -567,6 +569,7 @@ static pp5_status_t queue_all_edges(s003_t *s)
 typedef struct requeue {
     int32_t id, twin, a, b;
     bool at_new;
+    bool reaches_out;   /* an end outside the update set */
 } requeue_t;
 
 /* The update set of a deletion is marked with mark_epoch (a vertex that
@@ -581,12 +584,14 @@ static bool frozen_before(const s003_t *s, int y)
     return in_update_set(s, y) ? s->mark[y] & 1 : s->frozen[y] == s->epoch;
 }
 
-static void requeue_add(s003_t *s, requeue_t *list, int *n, int id, int twin, int x, int y, int v)
+/* Lists edge x-y of canonical corner id; `out`: y is outside the update set. */
+static inline void requeue_add(s003_t *s, requeue_t *list, int *n, int id, int twin, int x, int y,
+                               int v, bool out)
 {
     /* the record is read when the list is worked through: fetched now, the
      * records of all the edges come in together */
     __builtin_prefetch(&s->hot[id]);
-    list[(*n)++] = (requeue_t){id, twin, x < y ? x : y, x < y ? y : x, x == v || y == v};
+    list[(*n)++] = (requeue_t){id, twin, x < y ? x : y, x < y ? y : x, x == v || y == v, out};
 }
 
 /* The edges at x to re-queue; an edge between two vertices of the update
@@ -610,22 +615,26 @@ static int requeue_collect_at(s003_t *s, int x, int v, requeue_t *list, int n)
             in = sw_find_corner(w, y, x);
         else
             in = i > 0 ? sw_prev(fan[i - 1]) : kind == SW_FAN_CYCLE ? sw_prev(fan[k - 1]) : -1;
-        if (!(in_update_set(s, y) && y < x && in >= 0) &&
-            !(x_before && y != v && frozen_before(s, y))) {
+        bool y_in = in_update_set(s, y);
+        if (!(y_in && y < x && in >= 0) && !(x_before && y != v && frozen_before(s, y))) {
             int id = x < y || in < 0 ? out : in;
-            requeue_add(s, list, &n, id, id == out ? in : out, x, y, v);
+            requeue_add(s, list, &n, id, id == out ? in : out, x, y, v, !y_in);
         }
         /* a boundary edge into x from outside the set is no out-edge of the set */
         int pc = sw_prev(out), z = w->tri[pc];
         if (kind != SW_FAN_CYCLE && !in_update_set(s, z) && sw_corner_on_boundary(w, pc) &&
             !(x_before && frozen_before(s, z)))
-            requeue_add(s, list, &n, pc, -1, z, x, v);
+            requeue_add(s, list, &n, pc, -1, z, x, v, true);
     }
     return n;
 }
 
 /* s003_queue for a listed edge.  Only an edge at the new vertex can have
- * changed its canonical corner, so only there can the twin be queued. */
+ * changed its canonical corner, so only there can the twin be queued.  A
+ * live edge reaching out of the update set that waits under its lower
+ * bound stays as it is: that bound is unchanged (neither end moved, and
+ * its faces, whose third vertices are common neighbours of its ends, are
+ * not around the new vertex), so s003_cost would leave it in place. */
 static pp5_status_t requeue(s003_t *s, const requeue_t *e)
 {
     if (e->at_new && e->twin >= 0)
@@ -635,6 +644,9 @@ static pp5_status_t requeue(s003_t *s, const requeue_t *e)
         s->hot[e->id].twin = e->twin;
         return s003_defer(s, e->id);
     }
+    const s003_corner_t *h = &s->hot[e->id];
+    if (s->lazy && e->reaches_out && h->waiting && h->qpos != S003_QPOS_NONE && h->twin == e->twin)
+        return PP5_OK;
     return s003_cost(s, e->id, e->twin, e->a, e->b, false);
 }
 
