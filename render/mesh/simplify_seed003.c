@@ -750,55 +750,6 @@ static pp5_status_t s003_switch_phase(s003_t *s)
     return queue_all_edges(s);
 }
 
-/* Takes the edge at the top of the queue: sets it aside if it is frozen,
- * costs it in place if its key was a lower bound, else deletes it if it
- * may go (its new point is the one its cost was found at). */
-static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
-{
-    sw_t *w = s->w;
-    int a = w->tri[e.id], b = w->nextv[e.id];
-    if (a > b) {
-        int t = a;
-        a = b, b = t;
-    }
-    if (s003_frozen(s, a, b)) {
-        /* Not reached: an edge is set aside when its second end freezes
-         * (s003_refresh).  Were it reached, costing the edge again at the
-         * thaw would find the same cost: anything it depends on that
-         * changes re-queues it, recording its twin. */
-        queue_drop(s, e.id);
-        return s003_defer(s, e.id);
-    }
-    if (e.data < 0)   /* moves down to its cost, or leaves */
-        return s003_cost(s, e.id, -1, a, b, true);
-    queue_drop(s, e.id);
-    const double *p = s->points + 3 * (size_t)e.data;
-    sw_merge_t m;
-    int32_t S[2] = {a, b};
-    if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
-        return PP5_OK;   /* the link test, left for now (control_function) */
-    /* The first stage of fetching what the refresh reads: the ring's fan
-     * records, marks and freeze stamps, and the records of the corners of
-     * the faces that stay (measure_face_at).  The fans follow when their
-     * places are in (s003_refresh), each stage behind work that gives the
-     * one before time to arrive. */
-    for (int i = 0; i < m.n_ring; i++) {
-        int r = m.ring[i];
-        __builtin_prefetch(&w->fan_off[r]), __builtin_prefetch(&w->fan_n[r]);
-        __builtin_prefetch(&w->fan_kind[r]), __builtin_prefetch(&s->mark[r]);
-        __builtin_prefetch(&s->frozen[r]);
-    }
-    for (int i = 0; i < m.n_keep; i++) {
-        const s003_corner_t *h = s->hot + 3 * (m.keep[i] / 3);
-        __builtin_prefetch(h), __builtin_prefetch(h + 2);
-    }
-    pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
-    for (int r = 0; r < m.n_removed; r++)
-        for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
-            s003_forget(s, c);
-    return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
-}
-
 /* Edges waiting under lower bounds that are costed together (cost_batch). */
 enum { COST_BATCH = 8 };
 
@@ -846,6 +797,59 @@ static void prefetch_neighbourhoods(const s003_t *s, const s003_qentry_t *e, int
                 __builtin_prefetch(&s->hot[c]), __builtin_prefetch(&s->hot[sw_prev(fan[i ? i - 1 : k - 1])]);
         }
     }
+}
+
+/* Takes the edge at the top of the queue: sets it aside if it is frozen,
+ * costs it in place if its key was a lower bound, else deletes it if it
+ * may go (its new point is the one its cost was found at). */
+static pp5_status_t s003_take_top(s003_t *s, s003_qentry_t e)
+{
+    sw_t *w = s->w;
+    int a = w->tri[e.id], b = w->nextv[e.id];
+    if (a > b) {
+        int t = a;
+        a = b, b = t;
+    }
+    if (s003_frozen(s, a, b)) {
+        /* Not reached: an edge is set aside when its second end freezes
+         * (s003_refresh).  Were it reached, costing the edge again at the
+         * thaw would find the same cost: anything it depends on that
+         * changes re-queues it, recording its twin. */
+        queue_drop(s, e.id);
+        return s003_defer(s, e.id);
+    }
+    if (e.data < 0)   /* moves down to its cost, or leaves */
+        return s003_cost(s, e.id, -1, a, b, true);
+    queue_drop(s, e.id);
+    /* the merge test reads what costing read (the ends' fans, faces and
+     * vertices), most of it cold again: fetched together, not miss by miss */
+    int32_t end[2];
+    prefetch_neighbourhoods(s, &e, 1, end);
+    const double *p = s->points + 3 * (size_t)e.data;
+    sw_merge_t m;
+    int32_t S[2] = {a, b};
+    if (sw_test_merge(w, S, 2, p, &m) != SW_OK)
+        return PP5_OK;   /* the link test, left for now (control_function) */
+    /* The first stage of fetching what the refresh reads: the ring's fan
+     * records, marks and freeze stamps, and the records of the corners of
+     * the faces that stay (measure_face_at).  The fans follow when their
+     * places are in (s003_refresh), each stage behind work that gives the
+     * one before time to arrive. */
+    for (int i = 0; i < m.n_ring; i++) {
+        int r = m.ring[i];
+        __builtin_prefetch(&w->fan_off[r]), __builtin_prefetch(&w->fan_n[r]);
+        __builtin_prefetch(&w->fan_kind[r]), __builtin_prefetch(&s->mark[r]);
+        __builtin_prefetch(&s->frozen[r]);
+    }
+    for (int i = 0; i < m.n_keep; i++) {
+        const s003_corner_t *h = s->hot + 3 * (m.keep[i] / 3);
+        __builtin_prefetch(h), __builtin_prefetch(h + 2);
+    }
+    pp5_status_t st = sw_apply_merge(w, S, 2, p, &m);
+    for (int r = 0; r < m.n_removed; r++)
+        for (int c = 3 * m.removed[r]; c < 3 * m.removed[r] + 3; c++)
+            s003_forget(s, c);
+    return st == PP5_OK ? s003_refresh(s, a, b, &m) : st;
 }
 
 /* The edge at the top waits under a lower bound: it and the next ones that
