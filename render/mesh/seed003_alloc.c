@@ -1,36 +1,57 @@
 /* seed003_alloc.c: large arrays of seed 003 on huge pages (seed003_alloc.h). */
 #include "seed003_alloc.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 
 enum { HUGE_PAGE = 2 << 20 };
 
+static size_t whole_pages(size_t bytes)
+{
+    return (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
+}
+
 void *s003_alloc_big(size_t bytes, bool zero)
 {
     if (bytes < HUGE_PAGE)
         return zero ? calloc(bytes ? bytes : 1, 1) : malloc(bytes ? bytes : 1);
-    size_t whole = (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
-    void *p = aligned_alloc(HUGE_PAGE, whole);
-    if (!p)
+    size_t whole = whole_pages(bytes);
+    /* a huge page more than needed, then the unaligned ends given back */
+    char *raw = mmap(NULL, whole + HUGE_PAGE, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (raw == MAP_FAILED)
         return NULL;
+    char *p = (char *)(((uintptr_t)raw + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1));
+    if (p > raw)
+        munmap(raw, (size_t)(p - raw));
+    if (p + whole < raw + whole + HUGE_PAGE)
+        munmap(p + whole, (size_t)(raw + whole + HUGE_PAGE - (p + whole)));
 #ifdef MADV_HUGEPAGE
-    /* advice only: without transparent huge pages the array is as malloc's */
+    /* advice only: without transparent huge pages the array has 4 KB pages */
     madvise(p, whole, MADV_HUGEPAGE);
 #endif
-    if (zero)
-        memset(p, 0, whole);
-    return p;
+    return p;   /* a fresh mapping reads as zeros */
 }
 
-void *s003_grow_big(void *old, size_t used, size_t bytes)
+void s003_free_big(void *p, size_t bytes)
+{
+    if (!p)
+        return;
+    if (bytes < HUGE_PAGE)
+        free(p);
+    else
+        munmap(p, whole_pages(bytes));
+}
+
+void *s003_grow_big(void *old, size_t used, size_t old_bytes, size_t bytes)
 {
     void *p = s003_alloc_big(bytes, false);
     if (!p)
         return NULL;
     if (used)
         memcpy(p, old, used);
-    free(old);
+    s003_free_big(old, old_bytes);
     return p;
 }

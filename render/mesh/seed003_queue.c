@@ -68,7 +68,8 @@ pp5_status_t s003_queue_init(s003_queue_t *q, int n_ids, void *pos_base, size_t 
 
 void s003_queue_free(s003_queue_t *q)
 {
-    free(q->heap), free(q->bucket), free(q->filled), free(q->entry), free(q->chunk_next);
+    s003_free_big(q->entry, sizeof *q->entry * S003_CHUNK * (size_t)q->chunk_cap);
+    free(q->heap), free(q->bucket), free(q->filled), free(q->chunk_next);
     memset(q, 0, sizeof *q);
 }
 
@@ -138,6 +139,7 @@ static int chunk_new(s003_queue_t *q)
             return -1;
         q->chunk_next = nn;
         s003_qentry_t *ne = s003_grow_big(q->entry, sizeof *ne * S003_CHUNK * (size_t)q->n_chunks,
+                                          sizeof *ne * S003_CHUNK * (size_t)q->chunk_cap,
                                           sizeof *ne * S003_CHUNK * (size_t)cap);
         if (!ne)
             return -1;

@@ -500,6 +500,7 @@ static pp5_status_t s003_cost(s003_t *s, int id, int twin, int a, int b, bool no
     if (s->n_points == s->points_cap) {
         int cap = 2 * s->points_cap;
         double *np = s003_grow_big(s->points, sizeof *np * 3 * (size_t)s->n_points,
+                                   sizeof *np * 3 * (size_t)s->points_cap,
                                    sizeof *np * 3 * (size_t)cap);
         if (!np)
             return pp5_fail(PP5_E_NOMEM, "seed003: out of memory for new points");
@@ -959,7 +960,9 @@ pp5_status_t simplify_seed003_run(sw_t *w, const mesh_simplify_opts_t *o)
     if (st == PP5_OK)
         st = s003_loop(s);
     free(s->importance), free(s->corner), free(s->frozen), free(s->mark);
-    free(s->hot), free(s->dlist), free(s->points);
+    s003_free_big(s->hot, nc * sizeof *s->hot);
+    s003_free_big(s->points, sizeof *s->points * 3 * (size_t)s->points_cap);
+    free(s->dlist);
     free(s->requeue_list);
     s003_queue_free(&s->queue);
     free(s);
