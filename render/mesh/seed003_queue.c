@@ -2,7 +2,7 @@
  * 4-ary heap of the lowest keys over unsorted buckets of the others.
  *
  * Why: to 1 % of the bunny seed 003 re-keys an edge at the top of the
- * queue 166,000 times (a lower bound becomes its cost, usually far below
+ * queue 166,000 times (a lower bound becomes its cost, usually far from
  * the top) and takes 417,000 frozen or re-costed edges out of the middle.
  * In one heap of 100,000 edges the first sank through eight levels and the
  * second sifted too, each level writing a position to a cold line.  Here

@@ -2,13 +2,12 @@
  * (cost, tie) first and holds each id at most once, like the shared queue
  * (simplify_queue.c), but is shaped for lazy costing (ARCHITECTURE.md,
  * "Seed 003 ... decisions"): most edges are queued under a lower bound,
- * costed when they reach the top and queued again far below it, and most
+ * costed when they reach the top and queued again far from it, and most
  * leave the queue (frozen, re-costed) long before they come back up.
  *
  * So only the lowest keys are kept in order, in a small heap; the others
  * wait unsorted in buckets by cost (a fixed partition of the doubles:
- * BUCKET_STEPS per octave from 2^-20 to 2^20, one bucket below and one
- * above).  Putting a key in a bucket or taking it out costs O(1); a bucket
+ * 512 per octave from 2^-20 to 2^20, one bucket below and one above).  Putting a key in a bucket or taking it out costs O(1); a bucket
  * is sorted (heapified) only when the heap runs dry and it is the lowest
  * left.  Every key of a bucket is above every key of the buckets below it,
  * so the heap's least entry is the least of all.  Buckets are chains of

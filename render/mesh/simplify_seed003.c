@@ -659,12 +659,14 @@ static pp5_status_t requeue(s003_t *s, const requeue_t *e)
 static pp5_status_t s003_refresh(s003_t *s, int v, int gone, const sw_merge_t *m)
 {
     sw_t *w = s->w;
-    for (int i = 0; i < m->n_ring; i++)   /* prefetch_update_set's second stage */
+    /* the second and third stages after s003_take_top's first: the ring's
+     * fans, then, behind the measuring, their corners' next vertices */
+    for (int i = 0; i < m->n_ring; i++)
         __builtin_prefetch(sw_fan(w, m->ring[i]));
     const int32_t *fan = sw_fan(w, v);
     for (int i = 0; i < w->fan_n[v]; i++)   /* the faces that moved or changed a vertex */
         measure_face_at(s, fan[i]);
-    for (int i = 0; i < m->n_ring; i++) {   /* and its third */
+    for (int i = 0; i < m->n_ring; i++) {
         const int32_t *rf = sw_fan(w, m->ring[i]);
         for (int j = 0; j < w->fan_n[m->ring[i]]; j++)
             __builtin_prefetch(&w->nextv[rf[j]]);
