@@ -6,10 +6,10 @@
  * leave the queue (frozen, re-costed) long before they come back up.
  *
  * So only the lowest keys are kept in order, in a small heap; the others
- * wait unsorted in buckets by cost (a fixed partition of the doubles:
- * 512 per octave from 2^-20 to 2^20, one bucket below and one above).  Putting a key in a bucket or taking it out costs O(1); a bucket
- * is sorted (heapified) only when the heap runs dry and it is the lowest
- * left.  Every key of a bucket is above every key of the buckets below it,
+ * wait unsorted in buckets by cost (a fixed partition of the doubles: 512
+ * per octave from 2^-20 to 2^20, one bucket below and one above).  Putting
+ * a key in a bucket or taking it out costs O(1); a bucket is sorted
+ * (heapified) only when the heap runs dry and it is the lowest left.  Every key of a bucket is above every key of the buckets below it,
  * so the heap's least entry is the least of all.  Buckets are chains of
  * fixed chunks from one array on huge pages (seed003_alloc.h): appends to
  * hundreds of buckets at once touch few pages.
