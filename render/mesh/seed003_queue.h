@@ -9,9 +9,10 @@
  * wait unsorted in buckets by cost (a fixed partition of the doubles: 512
  * per octave from 2^-20 to 2^20, one bucket below and one above).  Putting
  * a key in a bucket or taking it out costs O(1); a bucket is sorted
- * (heapified) only when the heap runs dry and it is the lowest left.  Every key of a bucket is above every key of the buckets below it,
- * so the heap's least entry is the least of all.  Buckets are chains of
- * fixed chunks from one array on huge pages (seed003_alloc.h): appends to
+ * (heapified) only when the heap runs dry and it is the lowest left.
+ * Every key of a bucket is above every key of the buckets below it, so
+ * the heap's least entry is the least of all.  Buckets are chains of fixed
+ * chunks from one array on huge pages (seed003_alloc.h): appends to
  * hundreds of buckets at once touch few pages.
  *
  * Where an id is queued (a heap slot or a bucket entry) is kept in a field

@@ -782,7 +782,8 @@ static void prefetch_neighbourhoods(const s003_t *s, const s003_qentry_t *e, int
         __builtin_prefetch(sw_fan(w, end[j]));
     for (int j = 0; j < 2 * n; j++) {
         const int32_t *fan = sw_fan(w, end[j]);
-        for (int i = 0, k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN; i < k; i++) {
+        int k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN;
+        for (int i = 0; i < k; i++) {
             int c = fan[i], f = c / 3;
             __builtin_prefetch(&w->nextv[c]), __builtin_prefetch(&w->prevv[c]);
             __builtin_prefetch(&w->tri[3 * f]), __builtin_prefetch(&w->fnormal[3 * f]);
@@ -793,11 +794,14 @@ static void prefetch_neighbourhoods(const s003_t *s, const s003_qentry_t *e, int
     for (int j = 0; j < 2 * n; j++) {
         const int32_t *fan = sw_fan(w, end[j]);
         int other = end[j ^ 1];
-        for (int i = 0, k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN; i < k; i++) {
+        int k = w->fan_n[end[j]] < SW_MAX_FAN ? w->fan_n[end[j]] : SW_MAX_FAN;
+        for (int i = 0; i < k; i++) {
             int c = fan[i], x = w->nextv[c];
             __builtin_prefetch(&w->pos[3 * x]);
-            if (x == other)   /* the face before holds the twin, other -> end[j] */
-                __builtin_prefetch(&s->hot[c]), __builtin_prefetch(&s->hot[sw_prev(fan[i ? i - 1 : k - 1])]);
+            if (x == other) {   /* the face before holds the twin, other -> end[j] */
+                __builtin_prefetch(&s->hot[c]);
+                __builtin_prefetch(&s->hot[sw_prev(fan[i ? i - 1 : k - 1])]);
+            }
         }
     }
 }
