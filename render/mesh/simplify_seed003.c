@@ -754,7 +754,7 @@ static pp5_status_t s003_switch_phase(s003_t *s)
 }
 
 /* Edges waiting under lower bounds that are costed together (cost_batch). */
-enum { COST_BATCH = 8 };
+enum { COST_BATCH = 16 };
 
 /* Fetches what costing the edges of entries e[0..n) reads (their ends, the
  * ends' fans, the faces of the fans and their vertices), stage by stage:
