@@ -18,8 +18,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
+#include "huge_alloc.h"
 #include "simplify_work.h"
 
 /* Inlined whatever the compiler's size limits say: the fan walks are the
@@ -538,24 +538,6 @@ static pp5_status_t s001_refresh(s001_t *s, int v, const sw_merge_t *m)
     return PP5_OK;
 }
 
-/* The face records: every re-costing reads some fifty of them at random
- * places (the bunny's are 4.4 MB), so they ask for 2 MiB pages (transparent
- * huge pages, where the host allows them): fewer TLB misses and page
- * faults.  Freed with free(). */
-static s001_face_t *s001_alloc_faces(size_t n)
-{
-    const size_t huge = (size_t)2 << 20;
-    size_t bytes = sizeof(s001_face_t) * n;
-    if (bytes < huge)
-        return aligned_alloc(_Alignof(s001_face_t), bytes);
-    void *p = aligned_alloc(huge, (bytes + huge - 1) & ~(huge - 1));
-#ifdef MADV_HUGEPAGE
-    if (p)
-        madvise(p, bytes, MADV_HUGEPAGE);   /* advice only: failure is harmless */
-#endif
-    return p;
-}
-
 /* The records of every vertex and face, and every face costed. */
 static pp5_status_t s001_start(s001_t *s)
 {
@@ -593,7 +575,7 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
 {
     s001_t s = {.w = w, .cost = o->s001_cost,
                 .vert = calloc((size_t)w->nv + 1, sizeof(s001_vertex_t)),
-                .face = s001_alloc_faces((size_t)w->nf + 1)};
+                .face = huge_alloc(sizeof(s001_face_t) * ((size_t)w->nf + 1), false)};
     pp5_status_t st = s001_start(&s);
     sw_qentry_t e;
     sw_merge_t m;
@@ -609,7 +591,7 @@ pp5_status_t simplify_seed001_run(sw_t *w, const mesh_simplify_opts_t *o)
             st = s001_refresh(&s, S[0], &m);
     }
     free(s.vert);
-    free(s.face);
+    huge_free(s.face, sizeof(s001_face_t) * ((size_t)w->nf + 1));
     free(s.fan_face);
     return st;
 }
