@@ -23,9 +23,9 @@ pp5_status_t pp_array_alloc(pp_array_t **out)
     pp_array_t *a = aligned_alloc(64, (sizeof *a + 63) & ~(size_t)63);
     if (!a)
         return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte PP array", sizeof *a);
-    a->use_avx2 = false;
+    a->kernels = PP_KERNELS_PORTABLE;
     pp_array_clear(a);
-    pp_array_set_avx2(a, true);
+    pp_array_set_kernels(a, pp_kernel_level_best());
     *out = a;
     return PP5_OK;
 }
@@ -37,21 +37,16 @@ void pp_array_free(pp_array_t *a)
 
 void pp_array_clear(pp_array_t *a)
 {
-    bool avx2 = a->use_avx2;
+    pp_kernel_level_t kernels = a->kernels;
     memset(a, 0, sizeof *a);
     memset(a->en, 0xff, sizeof a->en);
-    a->use_avx2 = avx2;
+    a->kernels = kernels;
 }
 
-bool pp_array_set_avx2(pp_array_t *a, bool allow)
+pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted)
 {
-#if PP_HAVE_AVX2_COPY
-    a->use_avx2 = allow && __builtin_cpu_supports("avx2");
-#else
-    (void)allow;
-    a->use_avx2 = false;
-#endif
-    return a->use_avx2;
+    a->kernels = pp_kernel_level_at_most(wanted);
+    return a->kernels;
 }
 
 /* True when every PP of the block at word w is enabled: stores need no merge. */
@@ -89,57 +84,72 @@ typedef struct {
     unsigned d, n, shift;
 } qee_ctx_t;
 
+/* The entry points of one kernel copy (pp_kernels.inc defines one table per copy). */
+typedef struct {
+    void (*exec_enable)(pp_array_t *A, unsigned op);
+    void (*exec_flag)(pp_array_t *A, const pp_insn_t *in);
+    void (*exec_add)(pp_array_t *A, const pp_insn_t *in);
+    void (*exec_cmp)(pp_array_t *A, const pp_insn_t *in);
+    void (*exec_mul)(pp_array_t *A, const pp_insn_t *in);
+    void (*exec_logic)(pp_array_t *A, const pp_insn_t *in);
+    void (*exec_bs)(pp_array_t *A, backing_t *bs, const pp_insn_t *in);
+    qee_step_fn qee_store_step;
+} array_kernels_t;
+
 #define PP_SIMD_KERNELS "pp_kernels.inc"
 #include "pp_simd_copies.inc"
 
-/* Calls the AVX2 copy of a kernel when this array may use it, else the base copy. */
-#if PP_HAVE_AVX2_COPY
-#define KCALL(A, fn, ...) ((A)->use_avx2 ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
-#else
-#define KCALL(A, fn, ...) fn##_base(__VA_ARGS__)
+/* The copy this array runs (pp_array_set_kernels keeps `kernels` to the built ones). */
+static const array_kernels_t *kernels_of(const pp_array_t *A)
+{
+#if PP_HAVE_X86_COPIES
+    if (A->kernels == PP_KERNELS_AVX512)
+        return &array_kernels_avx512;
+    if (A->kernels == PP_KERNELS_AVX2)
+        return &array_kernels_avx2;
 #endif
+    return &array_kernels_base;
+}
 
-static void exec_qee(pp_array_t *A, const pp_insn_t *in, int x0, int y0)
+static void exec_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *in, int x0, int y0)
 {
     qee_coeffs_t c = {(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
                       (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
     qee_ctx_t ctx = {A, in->d, in->n, in->x};
-    qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, 
-#if PP_HAVE_AVX2_COPY
-                   A->use_avx2 ? qee_store_step_avx2 :
-#endif
-                   qee_store_step_base, &ctx, A->use_avx2);
+    qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, k->qee_store_step, &ctx,
+                   A->kernels);
 }
 
 void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
 {
+    const array_kernels_t *k = kernels_of(A);
     switch (in->op) {
     case PP_OP_EN_ALL: case PP_OP_EN_FLAG: case PP_OP_EN_AND: case PP_OP_EN_ANDN:
     case PP_OP_EN_OR: case PP_OP_EN_NOT:
-        KCALL(A, exec_enable, A, in->op);
+        k->exec_enable(A, in->op);
         break;
     case PP_OP_F_SET: case PP_OP_F_NOT: case PP_OP_F_LD: case PP_OP_F_ST:
-        KCALL(A, exec_flag, A, in);
+        k->exec_flag(A, in);
         break;
     case PP_OP_ADD: case PP_OP_SUB: case PP_OP_ADDI:
-        KCALL(A, exec_add, A, in);
+        k->exec_add(A, in);
         break;
     case PP_OP_CMP: case PP_OP_CMPI:
-        KCALL(A, exec_cmp, A, in);
+        k->exec_cmp(A, in);
         break;
     case PP_OP_MUL: case PP_OP_MULI:
-        KCALL(A, exec_mul, A, in);
+        k->exec_mul(A, in);
         break;
     case PP_OP_QEE:
-        exec_qee(A, in, x0, y0);
+        exec_qee(A, k, in, x0, y0);
         break;
     case PP_OP_BSLOAD: case PP_OP_BSSTORE:
-        KCALL(A, exec_bs, A, bs, in);
+        k->exec_bs(A, bs, in);
         break;
     case PP_OP_BSWAIT:
         break;                       /* timing only (renderer.c) */
     default:
-        KCALL(A, exec_logic, A, in);
+        k->exec_logic(A, in);
         break;
     }
 }
@@ -149,12 +159,13 @@ void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, in
 
 void pp_array_read_field(const pp_array_t *a, unsigned addr, unsigned bits, uint32_t *out)
 {
-    bit_transpose_planes_to_words(&a->mem[0][0] + addr * MEM_STRIDE_WORDS, MEM_STRIDE_WORDS,
-                                  bits, out);
+    bit_transpose_planes_to_words_at_level(a->kernels, &a->mem[0][0] + addr * MEM_STRIDE_WORDS,
+                                           MEM_STRIDE_WORDS, bits, out);
 }
 
 void pp_array_write_field(pp_array_t *a, unsigned addr, unsigned bits, const uint32_t *in)
 {
-    bit_transpose_words_to_planes(in, bits, &a->mem[0][0] + addr * MEM_STRIDE_WORDS,
-                                  MEM_STRIDE_WORDS);
+    bit_transpose_words_to_planes_at_level(a->kernels, in, bits,
+                                           &a->mem[0][0] + addr * MEM_STRIDE_WORDS,
+                                           MEM_STRIDE_WORDS);
 }

@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include "backing.h"
 #include "pp_isa.h"
+#include "pp_kernel_level.h"
 #include "pp_params.h"
 #include "qee.h"
 #include "util/status.h"
@@ -29,16 +30,17 @@ typedef struct pp_array {
     uint64_t flag[PP_PLANE_WORDS];
     uint64_t zero[PP_PLANE_WORDS];     /* always zero: the source of constant-0 bits */
     uint64_t qee_scratch[QEE_SCRATCH_WORDS(PP_QEE_MAX_BITS)];
-    bool use_avx2;                     /* host-speed choice only: results are identical */
+    pp_kernel_level_t kernels;         /* copy that runs: host speed only, results are identical */
 } pp_array_t;
 
 pp5_status_t pp_array_alloc(pp_array_t **out);
 void pp_array_free(pp_array_t *a);
 /* Memory and F zero, E = 1 everywhere. */
 void pp_array_clear(pp_array_t *a);
-/* Allow (default: when the host has it) or forbid the AVX2 kernels; returns
- * whether they are now used.  Tests run both kernel copies this way. */
-bool pp_array_set_avx2(pp_array_t *a, bool allow);
+/* Runs the kernel copy of the highest level available at or below `wanted`
+ * (pp_kernel_level.h; a new array runs the host's fastest) and returns the
+ * level it now runs.  Tests check every level the host has this way. */
+pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted);
 
 /* Executes one validated instruction; (x0, y0) is the region origin for the QEE
  * (checked by the caller with qee_origin_ok). */

@@ -115,14 +115,30 @@ static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
         }
 }
 
+/* The entry points of one kernel copy (qee_kernels.inc defines one table per copy). */
+typedef struct {
+    void (*lanes_add)(uint64_t *dst, const uint64_t *add, unsigned bits);
+    void (*lanes_add_row)(uint64_t *dst, const uint64_t *src, unsigned shl,
+                          const uint64_t *lane_mask, unsigned bits);
+    void (*chains_step)(uint64_t *acc, uint64_t *D, int64_t K, unsigned bits);
+} qee_kernels_t;
+
 #define PP_SIMD_KERNELS "qee_kernels.inc"
 #include "pp_simd_copies.inc"
 
-#if PP_HAVE_AVX2_COPY
-#define KCALL(avx2, fn, ...) ((avx2) ? fn##_avx2(__VA_ARGS__) : fn##_base(__VA_ARGS__))
+/* The copy for `level` (a level the host has, see pp_kernel_level.h). */
+static const qee_kernels_t *qee_kernels_of(pp_kernel_level_t level)
+{
+#if PP_HAVE_X86_COPIES
+    if (level == PP_KERNELS_AVX512)
+        return &qee_kernels_avx512;
+    if (level == PP_KERNELS_AVX2)
+        return &qee_kernels_avx2;
 #else
-#define KCALL(avx2, fn, ...) ((void)(avx2), fn##_base(__VA_ARGS__))
+    (void)level;
 #endif
+    return &qee_kernels_base;
+}
 
 /* Eight interleaved chains: chain c computes rows c, c+8, c+16, ... so one step
  * of all chains yields rows 8t..8t+7, i.e. 16 consecutive plane words.  Going
@@ -130,8 +146,9 @@ static void lanes_consts(uint64_t *T, const int64_t *K, unsigned bits)
  * grows by 128C per step.  Everything is exact integer arithmetic done mod
  * 2^bits, so the low `bits` bits of Q are exact. */
 void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_step_fn emit, void *ctx, bool use_avx2)
+                    qee_step_fn emit, void *ctx, pp_kernel_level_t kernels)
 {
+    const qee_kernels_t *k = qee_kernels_of(kernels);
     uint64_t *acc = scratch;                       /* bits x 16 */
     uint64_t *D = acc + QEE_LANES * bits;          /* bits x 16 */
     uint64_t *T = D + QEE_LANES * bits;            /* bits x 16: addends */
@@ -157,28 +174,28 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
         uint64_t lane_mask[QEE_LANES];
         for (unsigned j = 0; j < QEE_LANES; j++)
             lane_mask[j] = (chains_with_bit(b) >> (j / 2)) & 1u ? ~(uint64_t)0 : 0;
-        KCALL(use_avx2, lanes_add_row, acc, col, b, lane_mask, bits);
+        k->lanes_add_row(acc, col, b, lane_mask, bits);
     }
     int64_t K[QEE_CHAINS];
     for (unsigned c = 0; c < QEE_CHAINS; c++)
         K[c] = (int64_t)q->C * (2 * (int64_t)y0 * c + (int64_t)c * c) + (int64_t)q->E * c;
     lanes_consts(T, K, bits);
-    KCALL(use_avx2, lanes_add, acc, T, bits);
+    k->lanes_add(acc, T, bits);
     /* D of chain c at its first row y = y0 + c: 8 B x (col shifted by 3 planes)
      * + C(16y + 64) + 8E. */
     lanes_spread(D, col, 3, ~0u, bits);
     for (unsigned c = 0; c < QEE_CHAINS; c++)
         K[c] = (int64_t)q->C * (16 * ((int64_t)y0 + c) + 64) + 8 * (int64_t)q->E;
     lanes_consts(T, K, bits);
-    KCALL(use_avx2, lanes_add, D, T, bits);
+    k->lanes_add(D, T, bits);
     /* Without the y^2 term D stays the same: only acc moves (host speed;
      * the same bits as stepping D by zero). */
     int64_t dD = 128 * (int64_t)q->C;
     for (unsigned t = 0; t < 128 / QEE_CHAINS; t++) {
         emit(ctx, t, acc);
         if (t + 1 < 128 / QEE_CHAINS && dD != 0)
-            KCALL(use_avx2, chains_step, acc, D, dD, bits);
+            k->chains_step(acc, D, dD, bits);
         else if (t + 1 < 128 / QEE_CHAINS)
-            KCALL(use_avx2, lanes_add, acc, D, bits);
+            k->lanes_add(acc, D, bits);
     }
 }

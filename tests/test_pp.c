@@ -40,6 +40,19 @@ static renderer_t *new_renderer(void)
     return &r;
 }
 
+/* Makes the array run kernel copy `level` and returns true when the host has
+ * it; otherwise says loudly that this copy goes unchecked here and returns
+ * false (the array keeps its kernels). */
+static bool use_kernels(renderer_t *r, pp_kernel_level_t level)
+{
+    if (!pp_kernel_level_available(level)) {
+        printf("   note: this host or build has no %s kernels; they are not checked here\n",
+               pp_kernel_level_name(level));
+        return false;
+    }
+    return pp_array_set_kernels(r->array, level) == level;
+}
+
 /* ---- random streams ---- */
 
 /* A field of `bits` at a random address inside the 208-bit memory. */
@@ -230,7 +243,7 @@ static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *wh
 /* Runs `n_insns` random instructions (every opcode appears) through both
  * executors, one instruction per renderer_execute so a mismatch names it. */
 static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                  unsigned n_insns)
+                                  unsigned n_insns, pp_kernel_level_t level)
 {
     uint64_t s = seed * 0x9E3779B97F4A7C15ull + 1;
     renderer_t *r = new_renderer();
@@ -238,9 +251,7 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
-    /* Odd seeds use the host's fastest kernels (AVX2 if present), even seeds the
-     * portable 16-byte ones: both must match the reference. */
-    pp_array_set_avx2(r->array, seed % 2);
+    pp_array_set_kernels(r->array, level);
     /* Region origins: screen interior, screen edges, negative, the QEE limit. */
     static const int origins[][2] = {{0, 0}, {1152, 896}, {-128, -640}, {8064, -8064},
                                      {640, 384}, {-8064, 8064}};
@@ -296,7 +307,7 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
 /* The same comparison with the whole program sent as ONE stream (exercises
  * decoding of consecutive instructions with immediates); compared at the end. */
 static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                   unsigned n_insns)
+                                   unsigned n_insns, pp_kernel_level_t level)
 {
     uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
     renderer_t *r = new_renderer();
@@ -304,7 +315,7 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
-    pp_array_set_avx2(r->array, seed % 2);
+    pp_array_set_kernels(r->array, level);
     int ox = (int)rng_below(&s, 2000) - 500, oy = (int)rng_below(&s, 2000) - 500;
     renderer_set_region(r, ox, oy);
     unsigned ops[PP_OP_LIMIT], n_ops = legal_ops(ops);
@@ -338,12 +349,15 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     return bad;
 }
 
-TEST(pp_random_streams_match_reference_on_sampled_pps)
+/* 150 streams x 80 instructions on kernel copy `level`, each compared on 256
+ * PPs (the four corners and 252 random ones) after every instruction; plus 30
+ * programs of 120 instructions sent as one stream and compared at the end.
+ * SKIPs when the host lacks the level. */
+static void random_streams_on_sampled_pps(pp_kernel_level_t level)
 {
-    /* 150 streams x 80 instructions, each compared on 256 PPs (the four corners
-     * and 252 random ones) after every instruction; plus 30 programs of 120
-     * instructions sent as one stream and compared at the end. */
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
+    if (!pp_kernel_level_available(level))
+        SKIP("this host or build has no %s kernels", pp_kernel_level_name(level));
     unsigned pps[PPS], failed = 0;
     for (unsigned seed = 1; seed <= STREAMS; seed++) {
         uint64_t s = seed;
@@ -353,27 +367,82 @@ TEST(pp_random_streams_match_reference_on_sampled_pps)
         pps[3] = PP_COUNT - 1;
         for (unsigned i = 4; i < PPS; i++)
             pps[i] = rng_below(&s, PP_COUNT);
-        failed += run_random_stream(seed, pps, PPS, INSNS) != 0;
+        failed += run_random_stream(seed, pps, PPS, INSNS, level) != 0;
         if (seed % 5 == 0)
-            failed += run_random_program(seed, pps, PPS, 120) != 0;
+            failed += run_random_program(seed, pps, PPS, 120, level) != 0;
         if (failed)
             break;
     }
     CHECK_EQ(failed, 0);
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
+}
+
+TEST(pp_random_streams_match_reference_portable_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_PORTABLE);
+}
+
+TEST(pp_random_streams_match_reference_avx2_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_AVX2);
+}
+
+TEST(pp_random_streams_match_reference_avx512_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_AVX512);
 }
 
 TEST(pp_random_streams_match_reference_on_all_pps)
 {
-    /* Whole array: every one of the 16384 PPs, 2 streams x 40 instructions. */
+    /* Whole array: every one of the 16384 PPs, one stream of 40 instructions
+     * on each kernel copy the host has. */
     unsigned *pps = malloc(PP_COUNT * sizeof *pps);
     REQUIRE(pps);
     for (unsigned i = 0; i < PP_COUNT; i++)
         pps[i] = i;
-    unsigned failed = 0;
-    for (uint64_t seed = 1001; seed <= 1002; seed++)
-        failed += run_random_stream(seed, pps, PP_COUNT, 40) != 0;
+    unsigned failed = 0, checked = 0;
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        failed += run_random_stream(1001 + (uint64_t)level, pps, PP_COUNT, 40,
+                                    (pp_kernel_level_t)level) != 0;
+        checked++;
+    }
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     free(pps);
     CHECK_EQ(failed, 0);
+    CHECK(checked >= 1);
+}
+
+/* The level API: a wanted level falls back to the highest one the host has,
+ * the portable copy is always there, and an array reports what it runs. */
+TEST(pp_kernel_levels_fall_back_to_what_the_host_has)
+{
+    CHECK(pp_kernel_level_available(PP_KERNELS_PORTABLE));
+    CHECK_EQ(pp_kernel_level_at_most(PP_KERNELS_PORTABLE), PP_KERNELS_PORTABLE);
+    pp_kernel_level_t best = pp_kernel_level_best();
+    CHECK(pp_kernel_level_available(best));
+    CHECK_EQ(pp_kernel_level_at_most(PP_KERNELS_AVX512), best);
+    for (int level = best + 1; level < PP_KERNEL_LEVELS; level++)
+        CHECK(!pp_kernel_level_available((pp_kernel_level_t)level));
+    if (pp_kernel_level_available(PP_KERNELS_AVX512))
+        CHECK(pp_kernel_level_available(PP_KERNELS_AVX2));
+    pp_array_t *a = NULL;
+    REQUIRE(pp_array_alloc(&a) == PP5_OK);
+    CHECK_EQ(a->kernels, best);
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        pp_kernel_level_t got = pp_array_set_kernels(a, (pp_kernel_level_t)level);
+        CHECK_EQ(got, pp_kernel_level_at_most((pp_kernel_level_t)level));
+        CHECK_EQ(a->kernels, got);
+        pp_array_clear(a);                          /* clearing keeps the choice */
+        CHECK_EQ(a->kernels, got);
+    }
+    pp_array_free(a);
+    printf("   note: kernels on this host: %s\n", pp_kernel_level_describe(best));
 }
 
 /* ---- every operation against an integer model (independent of both executors) ---- */
@@ -516,8 +585,11 @@ TEST(pp_every_op_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 77;
     unsigned cases = 0, bad = 0;
-    for (int kernels = 0; kernels < 2; kernels++) {
-        pp_array_set_avx2(r->array, kernels);        /* portable, then the host's fastest */
+    unsigned levels = 0;
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        levels++;
         for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
             for (size_t wi = 0; wi < 4; wi++)
                 for (unsigned rep = 0; rep < 3; rep++) {
@@ -556,9 +628,9 @@ TEST(pp_every_op_matches_an_integer_model)
                     }
                 }
     }
-    pp_array_set_avx2(r->array, true);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 2 * 19 * 4 * 3);
+    CHECK_EQ(cases, levels * 19 * 4 * 3);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
@@ -587,8 +659,11 @@ TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 4242;
     unsigned cases = 0, bad = 0;
-    for (int kernels = 0; kernels < 2; kernels++) {
-        pp_array_set_avx2(r->array, kernels);
+    unsigned levels = 0;
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        levels++;
         for (size_t k = 0; k < sizeof nm / sizeof nm[0]; k++)
             for (unsigned variant = 0; variant < 4; variant++) {
                 model_case_t c = {variant < 2 ? PP_OP_MUL : PP_OP_MULI, nm[k][0], nm[k][1], 0, 0,
@@ -613,9 +688,9 @@ TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
                 }
             }
     }
-    pp_array_set_avx2(r->array, true);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 2 * 5 * 4);
+    CHECK_EQ(cases, levels * 5 * 4);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 

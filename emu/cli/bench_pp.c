@@ -144,7 +144,7 @@ static int bench_pp_array(const pp5_bench_opts_t *o)
     printf("   renderer-cycles per host CPU second (one host core; one renderer-cycle =\n"
            "   one bit step across all %u PPs; real renderer at 40 MHz: 40.0 M/s);\n"
            "   kernels: %s\n", PP_COUNT,
-           r->array->use_avx2 ? "AVX2 (32-byte vectors)" : "portable (16-byte vectors)");
+           pp_kernel_level_describe(r->array->kernels));
     int rc = 0;
     for (int k = MIX_ADD; k <= MIX_MIX && rc == 0; k++) {
         build(&s, (mix_t)k);
@@ -156,17 +156,25 @@ static int bench_pp_array(const pp5_bench_opts_t *o)
                    mix_name((mix_t)k), cps / 1e6, 100.0 * cps / 40e6, (unsigned long long)per,
                    cps_wall / 1e6);
     }
-    /* The same mix with the portable 16-byte kernels (hosts without AVX2). */
-    if (rc == 0 && pp_array_set_avx2(r->array, false) == false) {
+    /* The same mix with each narrower kernel copy the host has (what hosts
+     * without the wider vectors run): AVX2 where AVX-512 is the default, then
+     * the portable 16-byte kernels. */
+    const pp_kernel_level_t best = r->array->kernels;
+    for (int level = (int)best - 1; level >= PP_KERNELS_PORTABLE && rc == 0; level--) {
+        if (pp_array_set_kernels(r->array, (pp_kernel_level_t)level) != (pp_kernel_level_t)level)
+            continue;
         build(&s, MIX_MIX);
         double cps, cps_wall;
         uint64_t per;
         rc = measure(r, &s, min_s, &cps, &cps_wall, &per);
-        if (rc == 0)
+        if (rc == 0 && level == PP_KERNELS_PORTABLE)
             printf("   %-26s %8.2f M cycles/s  (portable 16-byte kernels, no AVX2)\n",
                    "MIX, portable kernels", cps / 1e6);
-        pp_array_set_avx2(r->array, true);
+        else if (rc == 0)
+            printf("   %-26s %8.2f M cycles/s  (AVX2 32-byte kernels, no AVX-512)\n",
+                   "MIX, AVX2 kernels", cps / 1e6);
     }
+    pp_array_set_kernels(r->array, best);
     /* The bit-serial reference executor, all 16384 PPs, on the mix. */
     if (rc == 0) {
         unsigned *idx = malloc(PP_COUNT * sizeof *idx);
