@@ -32,5 +32,8 @@
 #else
 #define PP_HAVE_X86_COPIES 0
 #endif
+#if PP_HAVE_X86_COPIES
+#include <immintrin.h>   /* the AVX-512 copy's three-input logic (pp_vec.inc) */
+#endif
 
 #endif

@@ -57,7 +57,7 @@ unsigned qee_serial_next_bit(qee_serial_t *s);
  * level the host has: see pp_kernel_level.h). */
 #define QEE_CHAINS 8u
 #define QEE_LANES (2u * QEE_CHAINS)
-#define QEE_SCRATCH_WORDS(bits) ((3u * QEE_LANES + 4u) * (bits))
+#define QEE_SCRATCH_WORDS(bits) ((2u * QEE_LANES + 4u) * (bits))
 typedef void (*qee_step_fn)(void *ctx, unsigned step, const uint64_t *planes);
 void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
                     qee_step_fn emit, void *ctx, pp_kernel_level_t kernels);
