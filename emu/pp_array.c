@@ -1,4 +1,13 @@
-/* pp_array.c: fast bit-sliced execution of PP instructions over the whole 128x128 array. */
+/* pp_array.c: fast bit-sliced execution of PP instructions over the whole 128x128 array.
+ *
+ * A batch of instructions runs tile by tile: every instruction on the first
+ * 1024 PPs, then every instruction on the next 1024, and so on.  PPs are
+ * independent, so the order changes no bit, and a tile's planes (128 bytes
+ * each) stay in L1 across the batch instead of every instruction streaming
+ * its whole planes (2 KB each) through L2.  QEE results depend only on the
+ * coefficients and the region, so a QEE either runs whole before the tiles
+ * (when it commutes with the batch so far) or is evaluated ahead into spare
+ * planes that its tile step copies under E. */
 #include "pp_array.h"
 
 #include <stdlib.h>
@@ -10,6 +19,20 @@
 /* Kernels work on blocks of 16 words (1024 PPs) so that carries, enables and
  * flags of a block stay in registers across all bit steps of an instruction. */
 #define PP_BLOCK_WORDS 16u
+/* The bytes of its planes' tiles that a batch may keep in the host's L1 data
+ * cache (48 KB on the development host; the rest is left to E, F, the
+ * QEE scratch and the stack). */
+#define TILE_BYTES_BUDGET (32u * 1024u)
+
+/* One instruction of a batch: the tile kernel that runs it, and its operands. */
+typedef struct tile_step tile_step_t;
+typedef void (*tile_fn)(pp_array_t *A, const tile_step_t *t, unsigned w0, unsigned w1);
+struct tile_step {
+    tile_fn run;
+    const pp_insn_t *in;
+    backing_t *bs;               /* BSLOAD, BSSTORE */
+    const uint64_t *planes;      /* QEE: its n result planes, evaluated ahead */
+};
 
 /* Bit i of an n-bit immediate, as an all-ones or all-zero word. */
 static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
@@ -17,13 +40,28 @@ static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
     return (in->imm[i >> 5] >> (i & 31)) & 1u ? ~(uint64_t)0 : 0;
 }
 
+/* The same for an immediate the kernel copied out of its instruction. */
+static inline uint64_t word_bit(const uint32_t *imm, unsigned i)
+{
+    return (imm[i >> 5] >> (i & 31)) & 1u ? ~(uint64_t)0 : 0;
+}
+
+/* Words from one pixel-memory plane to the next (planes are padded, see pp_array.h). */
+#define MEM_STRIDE_WORDS (sizeof ((pp_array_t *)0)->mem[0] / sizeof(uint64_t))
+
 pp5_status_t pp_array_alloc(pp_array_t **out)
 {
     /* C11 aligned_alloc wants a size that is a multiple of the alignment. */
     pp_array_t *a = aligned_alloc(64, (sizeof *a + 63) & ~(size_t)63);
-    if (!a)
-        return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte PP array", sizeof *a);
+    const size_t ahead_bytes = (size_t)PP_QEE_AHEAD_PLANES * PP_PLANE_WORDS * sizeof(uint64_t);
+    uint64_t *ahead = a ? aligned_alloc(64, ahead_bytes) : NULL;
+    if (!ahead) {
+        free(a);
+        return pp5_fail(PP5_E_NOMEM, "cannot allocate a %zu-byte PP array",
+                        sizeof *a + ahead_bytes);
+    }
     a->kernels = PP_KERNELS_PORTABLE;
+    a->qee_ahead = ahead;
     pp_array_clear(a);
     pp_array_set_kernels(a, pp_kernel_level_best());
     *out = a;
@@ -32,15 +70,19 @@ pp5_status_t pp_array_alloc(pp_array_t **out)
 
 void pp_array_free(pp_array_t *a)
 {
+    if (a)
+        free(a->qee_ahead);
     free(a);
 }
 
 void pp_array_clear(pp_array_t *a)
 {
     pp_kernel_level_t kernels = a->kernels;
+    uint64_t *ahead = a->qee_ahead;
     memset(a, 0, sizeof *a);
     memset(a->en, 0xff, sizeof a->en);
     a->kernels = kernels;
+    a->qee_ahead = ahead;
 }
 
 pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted)
@@ -84,16 +126,15 @@ typedef struct {
     unsigned d, n, shift;
 } qee_ctx_t;
 
+/* What a compare computes, by its condition (a compile-time constant in each
+ * compare kernel, so an equality test does not run the subtract, nor an order
+ * test the xor chain). */
+enum { CMP_EQUALITY, CMP_UNSIGNED, CMP_SIGNED };
+
 /* The entry points of one kernel copy (pp_kernels.inc defines one table per copy). */
 typedef struct {
-    void (*exec_enable)(pp_array_t *A, unsigned op);
-    void (*exec_flag)(pp_array_t *A, const pp_insn_t *in);
-    void (*exec_add)(pp_array_t *A, const pp_insn_t *in);
-    void (*exec_cmp)(pp_array_t *A, const pp_insn_t *in);
-    void (*exec_mul)(pp_array_t *A, const pp_insn_t *in);
-    void (*exec_logic)(pp_array_t *A, const pp_insn_t *in);
-    void (*exec_bs)(pp_array_t *A, backing_t *bs, const pp_insn_t *in);
-    qee_step_fn qee_store_step;
+    tile_fn (*tile_kernel)(const pp_insn_t *in);   /* the kernel of one instruction */
+    qee_step_fn qee_store_step;                     /* a whole-array QEE's writes under E */
 } array_kernels_t;
 
 #define PP_SIMD_KERNELS "pp_kernels.inc"
@@ -111,51 +152,145 @@ static const array_kernels_t *kernels_of(const pp_array_t *A)
     return &array_kernels_base;
 }
 
+static qee_coeffs_t qee_coeffs_of(const pp_insn_t *in)
+{
+    return (qee_coeffs_t){(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
+                          (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
+}
+
+/* A QEE over the whole array now, written into d under E. */
 static void exec_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *in, int x0, int y0)
 {
-    qee_coeffs_t c = {(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
-                      (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
+    qee_coeffs_t c = qee_coeffs_of(in);
     qee_ctx_t ctx = {A, in->d, in->n, in->x};
     qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, k->qee_store_step, &ctx,
                    A->kernels);
 }
 
-void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
+/* Where a QEE evaluated ahead keeps its results: n whole planes. */
+typedef struct {
+    uint64_t *planes;
+    unsigned shift, n;
+} qee_capture_t;
+
+static void qee_capture_step(void *vctx, unsigned step, const uint64_t *planes)
 {
-    const array_kernels_t *k = kernels_of(A);
-    switch (in->op) {
-    case PP_OP_EN_ALL: case PP_OP_EN_FLAG: case PP_OP_EN_AND: case PP_OP_EN_ANDN:
-    case PP_OP_EN_OR: case PP_OP_EN_NOT:
-        k->exec_enable(A, in->op);
-        break;
-    case PP_OP_F_SET: case PP_OP_F_NOT: case PP_OP_F_LD: case PP_OP_F_ST:
-        k->exec_flag(A, in);
-        break;
-    case PP_OP_ADD: case PP_OP_SUB: case PP_OP_ADDI:
-        k->exec_add(A, in);
-        break;
-    case PP_OP_CMP: case PP_OP_CMPI:
-        k->exec_cmp(A, in);
-        break;
-    case PP_OP_MUL: case PP_OP_MULI:
-        k->exec_mul(A, in);
-        break;
-    case PP_OP_QEE:
-        exec_qee(A, k, in, x0, y0);
-        break;
-    case PP_OP_BSLOAD: case PP_OP_BSSTORE:
-        k->exec_bs(A, bs, in);
-        break;
-    case PP_OP_BSWAIT:
-        break;                       /* timing only (renderer.c) */
-    default:
-        k->exec_logic(A, in);
-        break;
+    const qee_capture_t *c = vctx;
+    for (unsigned i = 0; i < c->n; i++)
+        memcpy(c->planes + (size_t)i * PP_PLANE_WORDS + QEE_LANES * step,
+               planes + QEE_LANES * (c->shift + i), QEE_LANES * sizeof(uint64_t));
+}
+
+/* A QEE's results, unmasked, into n planes at `planes`. */
+static void eval_qee_ahead(pp_array_t *A, const pp_insn_t *in, int x0, int y0, uint64_t *planes)
+{
+    qee_coeffs_t c = qee_coeffs_of(in);
+    qee_capture_t ctx = {planes, in->x, in->n};
+    qee_eval_steps(&c, x0, y0, in->x + in->n, A->qee_scratch, qee_capture_step, &ctx, A->kernels);
+}
+
+static bool fields_overlap(unsigned lo1, unsigned n1, unsigned lo2, unsigned n2)
+{
+    return n1 && n2 && lo1 < lo2 + n2 && lo2 < lo1 + n1;
+}
+
+/* Whether QEE q may run whole before the `count` instructions the batch has
+ * gathered (which come before it in the stream): it may when none of them
+ * writes E (q writes under E) or reads or writes a plane of q's destination. */
+static bool qee_may_run_first(const pp_insn_t *q, const tile_step_t *steps, unsigned count)
+{
+    for (unsigned i = 0; i < count; i++) {
+        const pp_insn_t *r = steps[i].in;
+        const pp_op_info_t *op = pp_isa_info(r->op);
+        if (op->cls == PP_CLASS_ENABLE ||
+            fields_overlap(q->d, q->n, r->d, pp_isa_field_bits(r, op->d_width)) ||
+            fields_overlap(q->d, q->n, r->a, pp_isa_field_bits(r, op->a_width)) ||
+            fields_overlap(q->d, q->n, r->b, pp_isa_field_bits(r, op->b_width)))
+            return false;
+    }
+    return true;
+}
+
+/* Marks planes [lo, lo + len) in a bitmap of pixel-memory planes. */
+static void mark_planes(uint64_t *map, unsigned lo, unsigned len)
+{
+    for (unsigned k = lo; k < lo + len;) {
+        unsigned bit = k % 64, n = lo + len - k < 64 - bit ? lo + len - k : 64 - bit;
+        map[k / 64] |= (n == 64 ? ~(uint64_t)0 : (((uint64_t)1 << n) - 1)) << bit;
+        k += n;
     }
 }
 
-/* Words from one pixel-memory plane to the next (planes are padded, see pp_array.h). */
-#define MEM_STRIDE_WORDS (sizeof ((pp_array_t *)0)->mem[0] / sizeof(uint64_t))
+/* Plane words per tile: the most, from one block to the whole array, for
+ * which the tiles of all planes the batch touches fit TILE_BYTES_BUDGET.  A
+ * batch of one-plane operations then makes one kernel call per instruction,
+ * not one per block. */
+static unsigned tile_words_for(const tile_step_t *steps, unsigned count)
+{
+    uint64_t map[(PP_MEM_BITS + 63) / 64] = {0};
+    unsigned planes = 2;                            /* E and F */
+    for (unsigned i = 0; i < count; i++) {
+        const pp_insn_t *in = steps[i].in;
+        const pp_op_info_t *op = pp_isa_info(in->op);
+        mark_planes(map, in->d, pp_isa_field_bits(in, op->d_width));
+        mark_planes(map, in->a, pp_isa_field_bits(in, op->a_width));
+        mark_planes(map, in->b, pp_isa_field_bits(in, op->b_width));
+        if (op->cls == PP_CLASS_BS)
+            planes += PP_BS_BLOCK_BITS;             /* the backing-store block */
+        if (steps[i].planes)
+            planes += in->n;                        /* a QEE's results, evaluated ahead */
+    }
+    for (unsigned j = 0; j < sizeof map / sizeof map[0]; j++)
+        planes += (unsigned)__builtin_popcountll(map[j]);
+    unsigned words = PP_PLANE_WORDS;
+    while (words > PP_BLOCK_WORDS && planes * words * sizeof(uint64_t) > TILE_BYTES_BUDGET)
+        words /= 2;
+    return words;
+}
+
+static void run_tiles(pp_array_t *A, const tile_step_t *steps, unsigned count)
+{
+    const unsigned words = tile_words_for(steps, count);
+    for (unsigned w = 0; w < PP_PLANE_WORDS; w += words)
+        for (unsigned i = 0; i < count; i++)
+            steps[i].run(A, &steps[i], w, w + words);
+}
+
+void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, unsigned count,
+                         int x0, int y0)
+{
+    const array_kernels_t *k = kernels_of(A);
+    tile_step_t steps[PP_ARRAY_BATCH_MAX];
+    unsigned i = 0;
+    while (i < count) {
+        unsigned n = 0, ahead = 0;        /* steps gathered; planes of QEEs evaluated ahead */
+        for (; i < count && n < PP_ARRAY_BATCH_MAX; i++) {
+            const pp_insn_t *in = &ins[i];
+            uint64_t *planes = NULL;
+            if (in->op == PP_OP_BSWAIT)
+                continue;                           /* timing only (renderer.c) */
+            if (in->op == PP_OP_QEE && qee_may_run_first(in, steps, n)) {
+                exec_qee(A, k, in, x0, y0);
+                continue;
+            }
+            if (in->op == PP_OP_QEE) {
+                /* Full: run the batch so far; this QEE then runs first. */
+                if (ahead + in->n > PP_QEE_AHEAD_PLANES)
+                    break;
+                planes = A->qee_ahead + (size_t)ahead * PP_PLANE_WORDS;
+                eval_qee_ahead(A, in, x0, y0, planes);
+                ahead += in->n;
+            }
+            steps[n++] = (tile_step_t){k->tile_kernel(in), in, bs, planes};
+        }
+        run_tiles(A, steps, n);
+    }
+}
+
+void pp_array_exec(pp_array_t *A, backing_t *bs, const pp_insn_t *in, int x0, int y0)
+{
+    pp_array_exec_batch(A, bs, in, 1, x0, y0);
+}
 
 void pp_array_read_field(const pp_array_t *a, unsigned addr, unsigned bits, uint32_t *out)
 {

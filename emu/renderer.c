@@ -129,6 +129,10 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
     uint64_t now = 0;
     size_t pos = 0;
     pp_insn_t in;
+    /* The cycles of an instruction never depend on PP data, so instructions
+     * are timed one by one and executed in batches (pp_array_exec_batch). */
+    pp_insn_t batch[PP_ARRAY_BATCH_MAX];
+    unsigned n_batch = 0;
     while (pos < n_words) {
         st = pp_isa_decode(words, n_words, &pos, r->pp.mem_bits, &in);
         PP5_ASSERT(st == PP5_OK, "stream validated in pass 1");
@@ -145,7 +149,11 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
         bs_channel_retire(&ch, now);
         if (in.op == PP_OP_BSSTORE)
             bs_words_drop(r, in.x);
-        pp_array_exec(r->array, r->bs, &in, r->x0, r->y0);
+        batch[n_batch++] = in;
+        if (n_batch == PP_ARRAY_BATCH_MAX || pos >= n_words) {
+            pp_array_exec_batch(r->array, r->bs, batch, n_batch, r->x0, r->y0);
+            n_batch = 0;
+        }
         out.instructions++;
         out.class_cycles[op->cls] += cyc;
         out.class_instructions[op->cls]++;

@@ -304,10 +304,31 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     return bad;
 }
 
+/* The opcode of instruction i of a random program: every opcode once, then
+ * random ones.  A QEE-heavy program draws a QEE for a quarter of them and an
+ * Enable instruction for an eighth: the batches of pp_array_exec_batch then
+ * run QEEs ahead of the batch, evaluate them into spare planes when an
+ * earlier instruction touches their destination or E, and fill those planes. */
+static unsigned program_op(uint64_t *s, const unsigned *ops, unsigned n_ops, unsigned i,
+                           bool qee_heavy)
+{
+    static const unsigned enables[] = {PP_OP_EN_ALL, PP_OP_EN_FLAG, PP_OP_EN_AND,
+                                       PP_OP_EN_ANDN, PP_OP_EN_OR, PP_OP_EN_NOT};
+    if (i < n_ops)
+        return ops[i];
+    unsigned r = rng_below(s, 8);
+    if (qee_heavy && r < 2)
+        return PP_OP_QEE;
+    if (qee_heavy && r == 2)
+        return enables[rng_below(s, 6)];
+    return ops[rng_below(s, n_ops)];
+}
+
 /* The same comparison with the whole program sent as ONE stream (exercises
- * decoding of consecutive instructions with immediates); compared at the end. */
+ * decoding of consecutive instructions with immediates, and the fast array's
+ * batches); compared at the end. */
 static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                   unsigned n_insns, pp_kernel_level_t level)
+                                   unsigned n_insns, pp_kernel_level_t level, bool qee_heavy)
 {
     uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
     renderer_t *r = new_renderer();
@@ -322,7 +343,7 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     pp_stream_t st;
     pp_stream_init(&st);
     for (unsigned i = 0; i < n_insns; i++)
-        emit_random(&st, &s, i < n_ops ? ops[i] : ops[rng_below(&s, n_ops)]);
+        emit_random(&st, &s, program_op(&s, ops, n_ops, i, qee_heavy));
     unsigned bad = 0;
     renderer_exec_result_t res;
     if (!CHECK_MSG(pp_stream_ok(&st), "encoder: %s", pp_stream_error(&st)) ||
@@ -341,7 +362,8 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
         CHECK_EQ(decoded, n_insns);
         CHECK_EQ(res.instructions, n_insns);
         char ctx[80];
-        snprintf(ctx, sizeof ctx, "one-stream program, seed %llu", (unsigned long long)seed);
+        snprintf(ctx, sizeof ctx, "one-stream %sprogram, seed %llu", qee_heavy ? "QEE-heavy " : "",
+                 (unsigned long long)seed);
         bad = compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
     }
     pp_stream_free(&st);
@@ -351,8 +373,8 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
 
 /* 150 streams x 80 instructions on kernel copy `level`, each compared on 256
  * PPs (the four corners and 252 random ones) after every instruction; plus 30
- * programs of 120 instructions sent as one stream and compared at the end.
- * SKIPs when the host lacks the level. */
+ * programs and 30 QEE-heavy programs of 120 instructions sent as one stream and
+ * compared at the end.  SKIPs when the host lacks the level. */
 static void random_streams_on_sampled_pps(pp_kernel_level_t level)
 {
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
@@ -369,7 +391,9 @@ static void random_streams_on_sampled_pps(pp_kernel_level_t level)
             pps[i] = rng_below(&s, PP_COUNT);
         failed += run_random_stream(seed, pps, PPS, INSNS, level) != 0;
         if (seed % 5 == 0)
-            failed += run_random_program(seed, pps, PPS, 120, level) != 0;
+            failed += run_random_program(seed, pps, PPS, 120, level, false) != 0;
+        if (seed % 5 == 2)
+            failed += run_random_program(seed, pps, PPS, 120, level, true) != 0;
         if (failed)
             break;
     }
@@ -397,7 +421,7 @@ TEST(pp_random_streams_match_reference_avx512_kernels)
 TEST(pp_random_streams_match_reference_on_all_pps)
 {
     /* Whole array: every one of the 16384 PPs, one stream of 40 instructions
-     * on each kernel copy the host has. */
+     * and one QEE-heavy program of 60 on each kernel copy the host has. */
     unsigned *pps = malloc(PP_COUNT * sizeof *pps);
     REQUIRE(pps);
     for (unsigned i = 0; i < PP_COUNT; i++)
@@ -410,6 +434,8 @@ TEST(pp_random_streams_match_reference_on_all_pps)
             continue;
         failed += run_random_stream(1001 + (uint64_t)level, pps, PP_COUNT, 40,
                                     (pp_kernel_level_t)level) != 0;
+        failed += run_random_program(1001 + (uint64_t)level, pps, PP_COUNT, 60,
+                                     (pp_kernel_level_t)level, true) != 0;
         checked++;
     }
     pp_array_set_kernels(r->array, pp_kernel_level_best());
