@@ -17,8 +17,10 @@
 #include "pp_simd.h"
 
 /* Kernels work on blocks of 16 words (1024 PPs) so that carries, enables and
- * flags of a block stay in registers across all bit steps of an instruction. */
+ * flags of a block stay in registers across all bit steps of an instruction.
+ * A QEE's evaluation step makes one block too (qee.h). */
 #define PP_BLOCK_WORDS 16u
+_Static_assert(PP_BLOCK_WORDS == QEE_LANES, "a QEE step evaluates one block");
 /* The bytes of its planes' tiles that a batch may keep in the host's L1 data
  * cache (48 KB on the development host; the rest is left to E, F, the
  * QEE scratch and the stack). */
@@ -31,16 +33,11 @@ struct tile_step {
     tile_fn run;
     const pp_insn_t *in;
     backing_t *bs;               /* BSLOAD, BSSTORE */
-    const uint64_t *planes;      /* QEE: its n result planes, evaluated ahead */
+    const uint64_t *planes;      /* QEE: its n result planes, evaluated ahead (qee_capture_t) */
 };
 
-/* Bit i of an n-bit immediate, as an all-ones or all-zero word. */
-static inline uint64_t imm_bit(const pp_insn_t *in, unsigned i)
-{
-    return (in->imm[i >> 5] >> (i & 31)) & 1u ? ~(uint64_t)0 : 0;
-}
-
-/* The same for an immediate the kernel copied out of its instruction. */
+/* Bit i of an n-bit immediate (the kernels' copy of pp_insn_t.imm), as an
+ * all-ones or all-zero word. */
 static inline uint64_t word_bit(const uint32_t *imm, unsigned i)
 {
     return (imm[i >> 5] >> (i & 31)) & 1u ? ~(uint64_t)0 : 0;
@@ -92,7 +89,7 @@ pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted)
 }
 
 /* True when every PP of the block at word w is enabled: stores need no merge. */
-static bool block_full(const pp_array_t *A, unsigned w)
+INLINE bool block_full(const pp_array_t *A, unsigned w)
 {
     uint64_t all = ~(uint64_t)0;
     for (unsigned v = 0; v < PP_BLOCK_WORDS; v++)
@@ -100,20 +97,22 @@ static bool block_full(const pp_array_t *A, unsigned w)
     return all == ~(uint64_t)0;
 }
 
-/* Source plane of step i for the shift/copy family (the zero plane past the field). */
-static const uint64_t *logic_src(const pp_array_t *A, const pp_insn_t *in, unsigned i)
+/* Step i's source plane in the shift/copy family, for the words of a0 (the
+ * field's first plane) in the next planes; `zero` (words of the zero plane)
+ * past the field. */
+INLINE const uint64_t *shifted_src(const uint64_t *a0, const uint64_t *zero, unsigned op,
+                                   unsigned i, unsigned n, unsigned k)
 {
-    const unsigned n = in->n, k = in->x;
-    switch (in->op) {
-    case PP_OP_SHL: return i >= k ? A->mem[in->a + i - k] : A->zero;
-    case PP_OP_SHR: return i + k < n ? A->mem[in->a + i + k] : A->zero;
-    case PP_OP_SAR: return A->mem[in->a + (i + k < n ? i + k : n - 1)];
-    default: return A->mem[in->a + i];
+    switch (op) {
+    case PP_OP_SHL: return i >= k ? a0 + (size_t)(i - k) * MEM_STRIDE_WORDS : zero;
+    case PP_OP_SHR: return i + k < n ? a0 + (size_t)(i + k) * MEM_STRIDE_WORDS : zero;
+    case PP_OP_SAR: return a0 + (size_t)(i + k < n ? i + k : n - 1) * MEM_STRIDE_WORDS;
+    default: return a0 + (size_t)i * MEM_STRIDE_WORDS;
     }
 }
 
 /* Plane of bit i of ext(src(m)) (the zero plane past an unsigned field). */
-static const uint64_t *ext_plane(const pp_array_t *A, unsigned src, unsigned m, bool sgn,
+INLINE const uint64_t *ext_plane(const pp_array_t *A, unsigned src, unsigned m, bool sgn,
                                  unsigned i)
 {
     if (i < m)
@@ -167,7 +166,10 @@ static void exec_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *i
                    A->kernels);
 }
 
-/* Where a QEE evaluated ahead keeps its results: n whole planes. */
+/* Where a QEE evaluated ahead keeps its results: n planes, stored block by
+ * block (the 16 words of block b of plane i at (b n + i) 16), so that
+ * evaluating (16 words of every plane per step) writes them in one run and
+ * each tile step reads its block's in one run. */
 typedef struct {
     uint64_t *planes;
     unsigned shift, n;
@@ -176,12 +178,11 @@ typedef struct {
 static void qee_capture_step(void *vctx, unsigned step, const uint64_t *planes)
 {
     const qee_capture_t *c = vctx;
-    for (unsigned i = 0; i < c->n; i++)
-        memcpy(c->planes + (size_t)i * PP_PLANE_WORDS + QEE_LANES * step,
-               planes + QEE_LANES * (c->shift + i), QEE_LANES * sizeof(uint64_t));
+    memcpy(c->planes + (size_t)step * c->n * QEE_LANES, planes + QEE_LANES * c->shift,
+           (size_t)c->n * QEE_LANES * sizeof(uint64_t));
 }
 
-/* A QEE's results, unmasked, into n planes at `planes`. */
+/* A QEE's results, unmasked, into n planes at `planes` (laid out as qee_capture_t says). */
 static void eval_qee_ahead(pp_array_t *A, const pp_insn_t *in, int x0, int y0, uint64_t *planes)
 {
     qee_coeffs_t c = qee_coeffs_of(in);
