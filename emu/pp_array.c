@@ -33,7 +33,10 @@ struct tile_step {
     tile_fn run;
     const pp_insn_t *in;
     backing_t *bs;               /* BSLOAD, BSSTORE */
-    const uint64_t *planes;      /* QEE: its n result planes, evaluated ahead (qee_capture_t) */
+    /* QEE: its n result planes, evaluated ahead (qee_capture_t); a row-linear
+     * QEE: its first step's planes, and what each step adds to them */
+    const uint64_t *planes;
+    int64_t step_add;
 };
 
 /* Bit i of an n-bit immediate (the kernels' copy of pp_insn_t.imm), as an
@@ -130,10 +133,17 @@ typedef struct {
  * test the xor chain). */
 enum { CMP_EQUALITY, CMP_UNSIGNED, CMP_SIGNED };
 
+static qee_coeffs_t qee_coeffs_of(const pp_insn_t *in)
+{
+    return (qee_coeffs_t){(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
+                          (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
+}
+
 /* The entry points of one kernel copy (pp_kernels.inc defines one table per copy). */
 typedef struct {
     tile_fn (*tile_kernel)(const pp_insn_t *in);   /* the kernel of one instruction */
     qee_step_fn qee_store_step;                     /* a whole-array QEE's writes under E */
+    tile_fn qee_row_linear_tile;                    /* a row-linear QEE, evaluated per tile */
 } array_kernels_t;
 
 #define PP_SIMD_KERNELS "pp_kernels.inc"
@@ -149,12 +159,6 @@ static const array_kernels_t *kernels_of(const pp_array_t *A)
         return &array_kernels_avx2;
 #endif
     return &array_kernels_base;
-}
-
-static qee_coeffs_t qee_coeffs_of(const pp_insn_t *in)
-{
-    return (qee_coeffs_t){(int32_t)in->imm[0], (int32_t)in->imm[1], (int32_t)in->imm[2],
-                          (int32_t)in->imm[3], (int32_t)in->imm[4], (int32_t)in->imm[5]};
 }
 
 /* A QEE over the whole array now, written into d under E. */
@@ -257,6 +261,38 @@ static void run_tiles(pp_array_t *A, const tile_step_t *steps, unsigned count)
             steps[i].run(A, &steps[i], w, w + words);
 }
 
+/* Adds QEE `in` to the batch of n steps, or runs it now: returns the steps
+ * added (0 or 1), or -1 when its planes would not fit the words of qee_ahead
+ * left after *ahead (run the batch so far; the QEE then comes first).  A
+ * row-linear QEE keeps only its first step and is evaluated tile by tile;
+ * another runs whole now when it may run first, else is evaluated ahead. */
+static int gather_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *in,
+                      tile_step_t *steps, unsigned n, size_t *ahead, int x0, int y0)
+{
+    const qee_coeffs_t c = qee_coeffs_of(in);
+    const unsigned bits = in->x + in->n;
+    const size_t room = (size_t)PP_QEE_AHEAD_PLANES * PP_PLANE_WORDS - *ahead;
+    uint64_t *planes = A->qee_ahead + *ahead;
+    if (qee_is_row_linear(&c)) {
+        if ((size_t)QEE_LANES * bits > room)
+            return -1;
+        int64_t step_add = qee_row_linear_start(&c, x0, y0, bits, planes, A->kernels);
+        *ahead += (size_t)QEE_LANES * bits;
+        steps[n] = (tile_step_t){k->qee_row_linear_tile, in, NULL, planes, step_add};
+        return 1;
+    }
+    if (qee_may_run_first(in, steps, n)) {
+        exec_qee(A, k, in, x0, y0);
+        return 0;
+    }
+    if ((size_t)in->n * PP_PLANE_WORDS > room)
+        return -1;
+    eval_qee_ahead(A, in, x0, y0, planes);
+    *ahead += (size_t)in->n * PP_PLANE_WORDS;
+    steps[n] = (tile_step_t){k->tile_kernel(in), in, NULL, planes, 0};
+    return 1;
+}
+
 void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, unsigned count,
                          int x0, int y0)
 {
@@ -264,25 +300,20 @@ void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, uns
     tile_step_t steps[PP_ARRAY_BATCH_MAX];
     unsigned i = 0;
     while (i < count) {
-        unsigned n = 0, ahead = 0;        /* steps gathered; planes of QEEs evaluated ahead */
+        unsigned n = 0;                   /* steps gathered */
+        size_t ahead = 0;                 /* words of qee_ahead in use */
         for (; i < count && n < PP_ARRAY_BATCH_MAX; i++) {
             const pp_insn_t *in = &ins[i];
-            uint64_t *planes = NULL;
             if (in->op == PP_OP_BSWAIT)
                 continue;                           /* timing only (renderer.c) */
-            if (in->op == PP_OP_QEE && qee_may_run_first(in, steps, n)) {
-                exec_qee(A, k, in, x0, y0);
+            if (in->op != PP_OP_QEE) {
+                steps[n++] = (tile_step_t){k->tile_kernel(in), in, bs, NULL, 0};
                 continue;
             }
-            if (in->op == PP_OP_QEE) {
-                /* Full: run the batch so far; this QEE then runs first. */
-                if (ahead + in->n > PP_QEE_AHEAD_PLANES)
-                    break;
-                planes = A->qee_ahead + (size_t)ahead * PP_PLANE_WORDS;
-                eval_qee_ahead(A, in, x0, y0, planes);
-                ahead += in->n;
-            }
-            steps[n++] = (tile_step_t){k->tile_kernel(in), in, bs, planes};
+            int added = gather_qee(A, k, in, steps, n, &ahead, x0, y0);
+            if (added < 0)
+                break;
+            n += (unsigned)added;
         }
         run_tiles(A, steps, n);
     }

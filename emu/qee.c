@@ -135,3 +135,18 @@ void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64
             k->lanes_add(acc, D, bits);
     }
 }
+
+int64_t qee_row_linear_start(const qee_coeffs_t *q, int x0, int y0, unsigned bits,
+                             uint64_t *step0, pp_kernel_level_t kernels)
+{
+    const qee_kernels_t *k = qee_kernels_of(kernels);
+    uint64_t row0[2 * QEE_MAX_BITS];
+    int64_t v[128], K[QEE_CHAINS];
+    row_values(q, x0, y0, v);
+    k->lanes_to_planes(v, bits, row0);
+    /* Chain c (row y0 + c) is row y0 plus E c. */
+    for (unsigned c = 0; c < QEE_CHAINS; c++)
+        K[c] = (int64_t)q->E * c;
+    k->lanes_start(step0, row0, 0, NULL, K, bits);
+    return 8 * (int64_t)q->E;
+}
