@@ -91,15 +91,6 @@ pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted)
     return a->kernels;
 }
 
-/* True when every PP of the block at word w is enabled: stores need no merge. */
-INLINE bool block_full(const pp_array_t *A, unsigned w)
-{
-    uint64_t all = ~(uint64_t)0;
-    for (unsigned v = 0; v < PP_BLOCK_WORDS; v++)
-        all &= A->en[w + v];
-    return all == ~(uint64_t)0;
-}
-
 /* Step i's source plane in the shift/copy family, for the words of a0 (the
  * field's first plane) in the next planes; `zero` (words of the zero plane)
  * past the field. */
