@@ -135,6 +135,7 @@ typedef struct {
     tile_fn (*tile_kernel)(const pp_insn_t *in);   /* the kernel of one instruction */
     qee_step_fn qee_store_step;                     /* a whole-array QEE's writes under E */
     tile_fn qee_row_linear_tile;                    /* a row-linear QEE, evaluated per tile */
+    void (*copy_plane)(uint64_t *dst, const uint64_t *src);   /* PP_PLANE_WORDS words */
 } array_kernels_t;
 
 #define PP_SIMD_KERNELS "pp_kernels.inc"
@@ -190,21 +191,60 @@ static bool fields_overlap(unsigned lo1, unsigned n1, unsigned lo2, unsigned n2)
     return n1 && n2 && lo1 < lo2 + n2 && lo2 < lo1 + n1;
 }
 
-/* Whether QEE q may run whole before the `count` instructions the batch has
- * gathered (which come before it in the stream): it may when none of them
- * writes E (q writes under E) or reads or writes a plane of q's destination. */
-static bool qee_may_run_first(const pp_insn_t *q, const tile_step_t *steps, unsigned count)
+/* Whether h, a QEE or a backing-store transfer (which read E and not F), may
+ * run whole before the `count` instructions the batch has gathered (which come
+ * before it in the stream): it may when none of them writes E, touches a plane
+ * h writes, writes a plane h reads (d is the field an instruction writes), or
+ * uses h's backing-store block with a store on either side. */
+static bool may_run_first(const pp_insn_t *h, const tile_step_t *steps, unsigned count)
 {
+    const pp_op_info_t *hop = pp_isa_info(h->op);
+    const unsigned w_lo = h->d, w_n = pp_isa_field_bits(h, hop->d_width);
+    const unsigned r_lo = h->a, r_n = pp_isa_field_bits(h, hop->a_width);
     for (unsigned i = 0; i < count; i++) {
         const pp_insn_t *r = steps[i].in;
         const pp_op_info_t *op = pp_isa_info(r->op);
-        if (op->cls == PP_CLASS_ENABLE ||
-            fields_overlap(q->d, q->n, r->d, pp_isa_field_bits(r, op->d_width)) ||
-            fields_overlap(q->d, q->n, r->a, pp_isa_field_bits(r, op->a_width)) ||
-            fields_overlap(q->d, q->n, r->b, pp_isa_field_bits(r, op->b_width)))
+        const unsigned d_n = pp_isa_field_bits(r, op->d_width);
+        if (op->cls == PP_CLASS_ENABLE || fields_overlap(w_lo, w_n, r->d, d_n) ||
+            fields_overlap(w_lo, w_n, r->a, pp_isa_field_bits(r, op->a_width)) ||
+            fields_overlap(w_lo, w_n, r->b, pp_isa_field_bits(r, op->b_width)) ||
+            fields_overlap(r_lo, r_n, r->d, d_n))
+            return false;
+        if (op->cls == PP_CLASS_BS && hop->cls == PP_CLASS_BS && r->x == h->x &&
+            (r->op == PP_OP_BSSTORE || h->op == PP_OP_BSSTORE))
             return false;
     }
     return true;
+}
+
+/* True when every PP is enabled. */
+static bool all_enabled(const pp_array_t *A)
+{
+    uint64_t all = ~(uint64_t)0;
+    for (unsigned w = 0; w < PP_PLANE_WORDS; w++)
+        all &= A->en[w];
+    return all == ~(uint64_t)0;
+}
+
+/* A backing-store transfer over the whole array now: with every PP enabled,
+ * 32 plain plane copies, which stream the block's 64 KB (contiguous in the
+ * backing store) far faster than a tile at a time; else the tile kernel over
+ * one tile of all words. */
+static void exec_bs_now(pp_array_t *A, const array_kernels_t *k, backing_t *bs,
+                        const pp_insn_t *in)
+{
+    if (!all_enabled(A)) {
+        const tile_step_t one = {k->tile_kernel(in), in, bs, NULL, 0};
+        one.run(A, &one, 0, PP_PLANE_WORDS);
+        return;
+    }
+    for (unsigned j = 0; j < PP_BS_BLOCK_BITS; j++) {
+        uint64_t *bp = backing_plane(bs, in->x, j);
+        if (in->op == PP_OP_BSLOAD)
+            k->copy_plane(A->mem[in->d + j], bp);
+        else
+            k->copy_plane(bp, A->mem[in->a + j]);
+    }
 }
 
 /* Marks planes [lo, lo + len) in a bitmap of pixel-memory planes. */
@@ -272,7 +312,7 @@ static int gather_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *
         steps[n] = (tile_step_t){k->qee_row_linear_tile, in, NULL, planes, step_add};
         return 1;
     }
-    if (qee_may_run_first(in, steps, n)) {
+    if (may_run_first(in, steps, n)) {
         exec_qee(A, k, in, x0, y0);
         return 0;
     }
@@ -297,6 +337,11 @@ void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, uns
             const pp_insn_t *in = &ins[i];
             if (in->op == PP_OP_BSWAIT)
                 continue;                           /* timing only (renderer.c) */
+            if ((in->op == PP_OP_BSLOAD || in->op == PP_OP_BSSTORE) &&
+                may_run_first(in, steps, n)) {
+                exec_bs_now(A, k, bs, in);
+                continue;
+            }
             if (in->op != PP_OP_QEE) {
                 steps[n++] = (tile_step_t){k->tile_kernel(in), in, bs, NULL, 0};
                 continue;

@@ -304,31 +304,84 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     return bad;
 }
 
-/* The opcode of instruction i of a random program: every opcode once, then
- * random ones.  A QEE-heavy program draws a QEE for a quarter of them and an
- * Enable instruction for an eighth: the batches of pp_array_exec_batch then
- * run QEEs ahead of the batch, evaluate them into spare planes when an
- * earlier instruction touches their destination or E, and fill those planes. */
-static unsigned program_op(uint64_t *s, const unsigned *ops, unsigned n_ops, unsigned i,
-                           bool qee_heavy)
+/* What a random program is made of (after every opcode once):
+ *   PROGRAM_ANY      random opcodes;
+ *   PROGRAM_REORDER  a QEE for a quarter of the instructions, an Enable
+ *                    instruction for an eighth, a backing-store transfer (of
+ *                    blocks 0..3, so that transfers of one block meet in a
+ *                    batch) for an eighth: the batches of pp_array_exec_batch
+ *                    run such QEEs and transfers before earlier instructions
+ *                    when that changes nothing, evaluate other QEEs into
+ *                    spare planes and fill those planes;
+ *   PROGRAM_SLOTS    the same kinds plus arithmetic on six 32-bit slots of
+ *                    memory, so that fields often do not overlap and
+ *                    transfers and QEEs often move ahead of arithmetic. */
+typedef enum { PROGRAM_ANY, PROGRAM_REORDER, PROGRAM_SLOTS } program_mix_t;
+
+static const char *const program_mix_names[] = {"", "reordering-heavy ", "slot "};
+
+static unsigned program_op(uint64_t *s, const unsigned *ops, unsigned n_ops, program_mix_t mix)
 {
     static const unsigned enables[] = {PP_OP_EN_ALL, PP_OP_EN_FLAG, PP_OP_EN_AND,
                                        PP_OP_EN_ANDN, PP_OP_EN_OR, PP_OP_EN_NOT};
-    if (i < n_ops)
-        return ops[i];
     unsigned r = rng_below(s, 8);
-    if (qee_heavy && r < 2)
+    if (mix != PROGRAM_ANY && r < 2)
         return PP_OP_QEE;
-    if (qee_heavy && r == 2)
+    if (mix != PROGRAM_ANY && r == 2)
         return enables[rng_below(s, 6)];
+    if (mix != PROGRAM_ANY && r == 3)
+        return rng_below(s, 2) ? PP_OP_BSLOAD : PP_OP_BSSTORE;
+    if (mix == PROGRAM_SLOTS) {
+        static const unsigned arith[] = {PP_OP_ADD, PP_OP_SUB, PP_OP_COPY, PP_OP_CMP};
+        return arith[rng_below(s, 4)];
+    }
     return ops[rng_below(s, n_ops)];
+}
+
+/* One instruction of opcode `op` whose fields are slots (32 k) of width <= 32. */
+static void emit_slot_insn(pp_stream_t *st, uint64_t *s, unsigned op)
+{
+    unsigned d = 32 * rng_below(s, 6), a = 32 * rng_below(s, 6), b = 32 * rng_below(s, 6);
+    unsigned n = 1 + rng_below(s, 32);
+    switch (op) {
+    case PP_OP_BSLOAD: pp_emit_bsload(st, d, rng_below(s, 4)); break;
+    case PP_OP_BSSTORE: pp_emit_bsstore(st, rng_below(s, 4), a); break;
+    case PP_OP_QEE:
+        pp_emit_qee(st, d, n, rng_below(s, 20), rand_coeff(s), rand_coeff(s), rand_coeff(s),
+                    rand_coeff(s), rand_coeff(s), rand_coeff(s));
+        break;
+    case PP_OP_ADD: pp_emit_add(st, d, a, b, n); break;
+    case PP_OP_SUB: pp_emit_sub(st, d, a, b, n); break;
+    case PP_OP_COPY: pp_emit_copy(st, d, a, n); break;
+    case PP_OP_CMP: pp_emit_cmp(st, rng_below(s, PP_COND_COUNT), a, b, n); break;
+    default: emit_random(st, s, op); break;             /* Enable instructions */
+    }
+}
+
+/* Instruction i of a random program: every opcode once, then as `mix` says. */
+static void emit_program_insn(pp_stream_t *st, uint64_t *s, const unsigned *ops, unsigned n_ops,
+                              unsigned i, program_mix_t mix)
+{
+    if (i < n_ops) {
+        emit_random(st, s, ops[i]);
+        return;
+    }
+    unsigned op = program_op(s, ops, n_ops, mix);
+    if (mix == PROGRAM_SLOTS)
+        emit_slot_insn(st, s, op);
+    else if (mix == PROGRAM_REORDER && op == PP_OP_BSLOAD)
+        pp_emit_bsload(st, rand_addr(s, 32), rng_below(s, 4));
+    else if (mix == PROGRAM_REORDER && op == PP_OP_BSSTORE)
+        pp_emit_bsstore(st, rng_below(s, 4), rand_addr(s, 32));
+    else
+        emit_random(st, s, op);
 }
 
 /* The same comparison with the whole program sent as ONE stream (exercises
  * decoding of consecutive instructions with immediates, and the fast array's
  * batches); compared at the end. */
 static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                   unsigned n_insns, pp_kernel_level_t level, bool qee_heavy)
+                                   unsigned n_insns, pp_kernel_level_t level, program_mix_t mix)
 {
     uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
     renderer_t *r = new_renderer();
@@ -343,7 +396,7 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     pp_stream_t st;
     pp_stream_init(&st);
     for (unsigned i = 0; i < n_insns; i++)
-        emit_random(&st, &s, program_op(&s, ops, n_ops, i, qee_heavy));
+        emit_program_insn(&st, &s, ops, n_ops, i, mix);
     unsigned bad = 0;
     renderer_exec_result_t res;
     if (!CHECK_MSG(pp_stream_ok(&st), "encoder: %s", pp_stream_error(&st)) ||
@@ -362,7 +415,7 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
         CHECK_EQ(decoded, n_insns);
         CHECK_EQ(res.instructions, n_insns);
         char ctx[80];
-        snprintf(ctx, sizeof ctx, "one-stream %sprogram, seed %llu", qee_heavy ? "QEE-heavy " : "",
+        snprintf(ctx, sizeof ctx, "one-stream %sprogram, seed %llu", program_mix_names[mix],
                  (unsigned long long)seed);
         bad = compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
     }
@@ -373,8 +426,8 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
 
 /* 150 streams x 80 instructions on kernel copy `level`, each compared on 256
  * PPs (the four corners and 252 random ones) after every instruction; plus 30
- * programs and 30 QEE-heavy programs of 120 instructions sent as one stream and
- * compared at the end.  SKIPs when the host lacks the level. */
+ * programs of each mix (program_mix_t) of 120 instructions sent as one stream
+ * and compared at the end.  SKIPs when the host lacks the level. */
 static void random_streams_on_sampled_pps(pp_kernel_level_t level)
 {
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
@@ -391,9 +444,11 @@ static void random_streams_on_sampled_pps(pp_kernel_level_t level)
             pps[i] = rng_below(&s, PP_COUNT);
         failed += run_random_stream(seed, pps, PPS, INSNS, level) != 0;
         if (seed % 5 == 0)
-            failed += run_random_program(seed, pps, PPS, 120, level, false) != 0;
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_ANY) != 0;
         if (seed % 5 == 2)
-            failed += run_random_program(seed, pps, PPS, 120, level, true) != 0;
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_REORDER) != 0;
+        if (seed % 5 == 4)
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_SLOTS) != 0;
         if (failed)
             break;
     }
@@ -421,7 +476,8 @@ TEST(pp_random_streams_match_reference_avx512_kernels)
 TEST(pp_random_streams_match_reference_on_all_pps)
 {
     /* Whole array: every one of the 16384 PPs, one stream of 40 instructions
-     * and one QEE-heavy program of 60 on each kernel copy the host has. */
+     * and a reordering-heavy and a slot program of 60 on each kernel copy the
+     * host has. */
     unsigned *pps = malloc(PP_COUNT * sizeof *pps);
     REQUIRE(pps);
     for (unsigned i = 0; i < PP_COUNT; i++)
@@ -435,7 +491,9 @@ TEST(pp_random_streams_match_reference_on_all_pps)
         failed += run_random_stream(1001 + (uint64_t)level, pps, PP_COUNT, 40,
                                     (pp_kernel_level_t)level) != 0;
         failed += run_random_program(1001 + (uint64_t)level, pps, PP_COUNT, 60,
-                                     (pp_kernel_level_t)level, true) != 0;
+                                     (pp_kernel_level_t)level, PROGRAM_REORDER) != 0;
+        failed += run_random_program(1001 + (uint64_t)level, pps, PP_COUNT, 60,
+                                     (pp_kernel_level_t)level, PROGRAM_SLOTS) != 0;
         checked++;
     }
     pp_array_set_kernels(r->array, pp_kernel_level_best());
