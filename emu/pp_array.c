@@ -4,10 +4,14 @@
  * 1024 PPs, then every instruction on the next 1024, and so on.  PPs are
  * independent, so the order changes no bit, and a tile's planes (128 bytes
  * each) stay in L1 across the batch instead of every instruction streaming
- * its whole planes (2 KB each) through L2.  QEE results depend only on the
- * coefficients and the region, so a QEE either runs whole before the tiles
- * (when it commutes with the batch so far) or is evaluated ahead into spare
- * planes that its tile step copies under E. */
+ * its whole planes (2 KB each) through L2.
+ *
+ * QEE results depend only on the coefficients and the region: a row-linear
+ * QEE is evaluated tile by tile from its first step; another runs whole
+ * before the tiles when that changes nothing (may_run_first), or else is
+ * evaluated ahead into spare planes that its tile step copies under E.  A
+ * backing-store transfer also runs whole before the tiles when that changes
+ * nothing, where it streams its block's 64 KB; otherwise it is a tile step. */
 #include "pp_array.h"
 
 #include <stdlib.h>
