@@ -129,6 +129,31 @@ static int measure(renderer_t *r, const pp_stream_t *s, double min_s, double *cy
     return 0;
 }
 
+/* The MIX stream on each narrower kernel copy the host has (what hosts without
+ * the wider vectors run): AVX2 where AVX-512 is the default, then the
+ * portable 16-byte kernels; the array runs its fastest copy again after. */
+static int measure_narrower_copies(renderer_t *r, pp_stream_t *s, double min_s)
+{
+    const pp_kernel_level_t best = r->array->kernels;
+    int rc = 0;
+    for (int level = (int)best - 1; level >= PP_KERNELS_PORTABLE && rc == 0; level--) {
+        if (pp_array_set_kernels(r->array, (pp_kernel_level_t)level) != (pp_kernel_level_t)level)
+            continue;
+        build(s, MIX_MIX);
+        double cps, cps_wall;
+        uint64_t per;
+        rc = measure(r, s, min_s, &cps, &cps_wall, &per);
+        if (rc == 0 && level == PP_KERNELS_PORTABLE)
+            printf("   %-26s %8.2f M cycles/s  (portable 16-byte kernels, no AVX2)\n",
+                   "MIX, portable kernels", cps / 1e6);
+        else if (rc == 0)
+            printf("   %-26s %8.2f M cycles/s  (AVX2 32-byte kernels, no AVX-512)\n",
+                   "MIX, AVX2 kernels", cps / 1e6);
+    }
+    pp_array_set_kernels(r->array, best);
+    return rc;
+}
+
 static int bench_pp_array(const pp5_bench_opts_t *o)
 {
     pp_params_t p;
@@ -165,25 +190,8 @@ static int bench_pp_array(const pp5_bench_opts_t *o)
                    mix_name((mix_t)k), cps / 1e6, 100.0 * cps / 40e6, (unsigned long long)per,
                    cps_wall / 1e6);
     }
-    /* The same mix with each narrower kernel copy the host has (what hosts
-     * without the wider vectors run): AVX2 where AVX-512 is the default, then
-     * the portable 16-byte kernels. */
-    const pp_kernel_level_t best = r->array->kernels;
-    for (int level = (int)best - 1; level >= PP_KERNELS_PORTABLE && rc == 0; level--) {
-        if (pp_array_set_kernels(r->array, (pp_kernel_level_t)level) != (pp_kernel_level_t)level)
-            continue;
-        build(&s, MIX_MIX);
-        double cps, cps_wall;
-        uint64_t per;
-        rc = measure(r, &s, min_s, &cps, &cps_wall, &per);
-        if (rc == 0 && level == PP_KERNELS_PORTABLE)
-            printf("   %-26s %8.2f M cycles/s  (portable 16-byte kernels, no AVX2)\n",
-                   "MIX, portable kernels", cps / 1e6);
-        else if (rc == 0)
-            printf("   %-26s %8.2f M cycles/s  (AVX2 32-byte kernels, no AVX-512)\n",
-                   "MIX, AVX2 kernels", cps / 1e6);
-    }
-    pp_array_set_kernels(r->array, best);
+    if (rc == 0)
+        rc = measure_narrower_copies(r, &s, min_s);
     /* The bit-serial reference executor, all 16384 PPs, on the mix. */
     if (rc == 0) {
         unsigned *idx = malloc(PP_COUNT * sizeof *idx);
