@@ -25,6 +25,8 @@
  * A QEE's evaluation step makes one block too (qee.h). */
 #define PP_BLOCK_WORDS 16u
 _Static_assert(PP_BLOCK_WORDS == QEE_LANES, "a QEE step evaluates one block");
+/* Most instructions in one batch (one tiled pass). */
+#define PP_ARRAY_BATCH_MAX 64u
 /* The bytes of its planes' tiles that a batch may keep in the host's L1 data
  * cache (48 KB on the development host; the rest is left to E, F, the
  * QEE scratch and the stack). */
@@ -328,12 +330,12 @@ static int gather_qee(pp_array_t *A, const array_kernels_t *k, const pp_insn_t *
     return 1;
 }
 
-void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, unsigned count,
+void pp_array_exec_batch(pp_array_t *A, backing_t *bs, const pp_insn_t *ins, size_t count,
                          int x0, int y0)
 {
     const array_kernels_t *k = kernels_of(A);
     tile_step_t steps[PP_ARRAY_BATCH_MAX];
-    unsigned i = 0;
+    size_t i = 0;
     while (i < count) {
         unsigned n = 0;                   /* steps gathered */
         size_t ahead = 0;                 /* words of qee_ahead in use */

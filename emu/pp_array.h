@@ -26,9 +26,6 @@
 /* Planes for the results of QEEs that a batch evaluates ahead (pp_array_exec_batch):
  * any one QEE fits. */
 #define PP_QEE_AHEAD_PLANES PP_MEM_BITS
-/* Most instructions pp_array_exec_batch gathers into one tiled pass (it takes
- * longer lists and splits them). */
-#define PP_ARRAY_BATCH_MAX 64u
 
 typedef struct pp_array {
     /* Planes are padded by one cache line so that the same word of successive
@@ -57,9 +54,10 @@ pp_kernel_level_t pp_array_set_kernels(pp_array_t *a, pp_kernel_level_t wanted);
  * (checked by the caller with qee_origin_ok). */
 void pp_array_exec(pp_array_t *a, backing_t *bs, const pp_insn_t *in, int x0, int y0);
 /* Executes `count` validated instructions in order: the same bits as
- * pp_array_exec on each in turn, but faster, as it runs them 1024 PPs at a
- * time so that those PPs' planes stay in the host's L1 cache (pp_array.c). */
-void pp_array_exec_batch(pp_array_t *a, backing_t *bs, const pp_insn_t *ins, unsigned count,
+ * pp_array_exec on each in turn, but faster, as it runs them in batches,
+ * 1024 PPs at a time, so that those PPs' planes stay in the host's L1 cache
+ * (pp_array.c). */
+void pp_array_exec_batch(pp_array_t *a, backing_t *bs, const pp_insn_t *ins, size_t count,
                          int x0, int y0);
 
 /* Field access, one uint32 per PP row-major; bits <= 32, addr + bits <= 208. */

@@ -75,21 +75,28 @@ static bool uses_width(const pp_op_info_t *op, unsigned code)
     return op->d_width == code || op->a_width == code || op->b_width == code;
 }
 
-/* Checks one field: unused fields must be zero, used ones must fit the memory. */
-static pp5_status_t check_field(const pp_op_info_t *op, size_t at, const char *field,
-                                unsigned addr, unsigned width, unsigned mem_bits)
+/* The message for a field that check_field rejects (out of line: the decoder
+ * runs twice for every instruction a renderer executes, and fields are
+ * almost always right). */
+static pp5_status_t __attribute__((cold, noinline))
+field_error(const pp_op_info_t *op, size_t at, const char *field, unsigned addr,
+            unsigned width, unsigned mem_bits)
 {
-    if (width == 0) {
-        if (addr != 0)
-            return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s does not use field %s, "
-                            "which must be 0 (is %u)", at, op->name, field, addr);
+    if (width == 0)
+        return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s does not use field %s, "
+                        "which must be 0 (is %u)", at, op->name, field, addr);
+    return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s field %s = bits [%u, %u) "
+                    "exceeds the %u-bit pixel memory", at, op->name, field, addr,
+                    addr + width, mem_bits);
+}
+
+/* Checks one field: unused fields must be zero, used ones must fit the memory. */
+static inline pp5_status_t check_field(const pp_op_info_t *op, size_t at, const char *field,
+                                       unsigned addr, unsigned width, unsigned mem_bits)
+{
+    if (width == 0 ? addr == 0 : addr + width <= mem_bits)
         return PP5_OK;
-    }
-    if (addr + width > mem_bits)
-        return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: %s field %s = bits [%u, %u) "
-                        "exceeds the %u-bit pixel memory", at, op->name, field, addr,
-                        addr + width, mem_bits);
-    return PP5_OK;
+    return field_error(op, at, field, addr, width, mem_bits);
 }
 
 static bool overlaps(unsigned lo1, unsigned len1, unsigned lo2, unsigned len2)
