@@ -142,6 +142,7 @@ typedef struct {
     qee_step_fn qee_store_step;                     /* a whole-array QEE's writes under E */
     tile_fn qee_row_linear_tile;                    /* a row-linear QEE, evaluated per tile */
     void (*copy_plane)(uint64_t *dst, const uint64_t *src);   /* PP_PLANE_WORDS words */
+    bool (*all_enabled)(const pp_array_t *A);                  /* E = 1 in every PP */
 } array_kernels_t;
 
 #define PP_SIMD_KERNELS "pp_kernels.inc"
@@ -223,15 +224,6 @@ static bool may_run_first(const pp_insn_t *h, const tile_step_t *steps, unsigned
     return true;
 }
 
-/* True when every PP is enabled. */
-static bool all_enabled(const pp_array_t *A)
-{
-    uint64_t all = ~(uint64_t)0;
-    for (unsigned w = 0; w < PP_PLANE_WORDS; w++)
-        all &= A->en[w];
-    return all == ~(uint64_t)0;
-}
-
 /* A backing-store transfer over the whole array now: with every PP enabled,
  * 32 plain plane copies, which stream the block's 64 KB (contiguous in the
  * backing store) far faster than a tile at a time; else the tile kernel over
@@ -239,7 +231,7 @@ static bool all_enabled(const pp_array_t *A)
 static void exec_bs_now(pp_array_t *A, const array_kernels_t *k, backing_t *bs,
                         const pp_insn_t *in)
 {
-    if (!all_enabled(A)) {
+    if (!k->all_enabled(A)) {
         const tile_step_t one = {k->tile_kernel(in), in, bs, NULL, 0};
         one.run(A, &one, 0, PP_PLANE_WORDS);
         return;
