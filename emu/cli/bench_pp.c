@@ -131,12 +131,14 @@ static int measure(renderer_t *r, const pp_stream_t *s, double min_s, double *cy
 
 /* The MIX stream on each narrower kernel copy the host has (what hosts without
  * the wider vectors run): AVX2 where AVX-512 is the default, then the
- * portable 16-byte kernels; the array runs its fastest copy again after. */
+ * portable 16-byte kernels, whose line is there even where they are the
+ * default (scripts read it); the array runs its fastest copy again after. */
 static int measure_narrower_copies(renderer_t *r, pp_stream_t *s, double min_s)
 {
     const pp_kernel_level_t best = r->array->kernels;
+    const int first = best == PP_KERNELS_PORTABLE ? PP_KERNELS_PORTABLE : (int)best - 1;
     int rc = 0;
-    for (int level = (int)best - 1; level >= PP_KERNELS_PORTABLE && rc == 0; level--) {
+    for (int level = first; level >= PP_KERNELS_PORTABLE && rc == 0; level--) {
         if (pp_array_set_kernels(r->array, (pp_kernel_level_t)level) != (pp_kernel_level_t)level)
             continue;
         build(s, MIX_MIX);
