@@ -1,7 +1,6 @@
 /* bit_transpose.c: bit planes <-> one uint32 per PP by word-parallel 32x32 bit-matrix transposes. */
 #include "bit_transpose.h"
 
-#include <stdbool.h>
 #include <string.h>
 
 #include "pp_params.h"
@@ -22,46 +21,38 @@
 #define PP_SIMD_KERNELS "bit_transpose_kernels.inc"
 #include "pp_simd_copies.inc"
 
-#if PP_HAVE_AVX2_COPY
-/* Host-speed choice only: both copies compute the same bits. */
-static bool use_avx2(void)
+void bit_transpose_planes_to_words_at_level(pp_kernel_level_t kernels, const uint64_t *first,
+                                            size_t plane_stride, unsigned bits, uint32_t *out)
 {
-    return __builtin_cpu_supports("avx2");
-}
+    switch (pp_kernel_level_at_most(kernels)) {
+#if PP_HAVE_X86_COPIES
+    case PP_KERNELS_AVX512: planes_to_words_avx512(first, plane_stride, bits, out); break;
+    case PP_KERNELS_AVX2: planes_to_words_avx2(first, plane_stride, bits, out); break;
 #endif
+    default: planes_to_words_base(first, plane_stride, bits, out); break;
+    }
+}
+
+void bit_transpose_words_to_planes_at_level(pp_kernel_level_t kernels, const uint32_t *in,
+                                            unsigned bits, uint64_t *first, size_t plane_stride)
+{
+    switch (pp_kernel_level_at_most(kernels)) {
+#if PP_HAVE_X86_COPIES
+    case PP_KERNELS_AVX512: words_to_planes_avx512(in, bits, first, plane_stride); break;
+    case PP_KERNELS_AVX2: words_to_planes_avx2(in, bits, first, plane_stride); break;
+#endif
+    default: words_to_planes_base(in, bits, first, plane_stride); break;
+    }
+}
 
 void bit_transpose_planes_to_words(const uint64_t *first, size_t plane_stride, unsigned bits,
                                    uint32_t *out)
 {
-#if PP_HAVE_AVX2_COPY
-    if (use_avx2()) {
-        planes_to_words_avx2(first, plane_stride, bits, out);
-        return;
-    }
-#endif
-    planes_to_words_base(first, plane_stride, bits, out);
+    bit_transpose_planes_to_words_at_level(pp_kernel_level_best(), first, plane_stride, bits, out);
 }
 
 void bit_transpose_words_to_planes(const uint32_t *in, unsigned bits, uint64_t *first,
                                    size_t plane_stride)
 {
-#if PP_HAVE_AVX2_COPY
-    if (use_avx2()) {
-        words_to_planes_avx2(in, bits, first, plane_stride);
-        return;
-    }
-#endif
-    words_to_planes_base(in, bits, first, plane_stride);
-}
-
-void bit_transpose_planes_to_words_portable(const uint64_t *first, size_t plane_stride,
-                                            unsigned bits, uint32_t *out)
-{
-    planes_to_words_base(first, plane_stride, bits, out);
-}
-
-void bit_transpose_words_to_planes_portable(const uint32_t *in, unsigned bits, uint64_t *first,
-                                            size_t plane_stride)
-{
-    words_to_planes_base(in, bits, first, plane_stride);
+    bit_transpose_words_to_planes_at_level(pp_kernel_level_best(), in, bits, first, plane_stride);
 }

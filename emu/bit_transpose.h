@@ -14,6 +14,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pp_kernel_level.h"
+
 /* out[p] bit k = bit p of planes[k] for k < bits, 0 above (bits 0..32).
  * Planes are PP_PLANE_WORDS uint64 words each; `plane_stride` words apart
  * (plane k starts at first + k * plane_stride). */
@@ -24,11 +26,13 @@ void bit_transpose_planes_to_words(const uint64_t *first, size_t plane_stride, u
 void bit_transpose_words_to_planes(const uint32_t *in, unsigned bits, uint64_t *first,
                                    size_t plane_stride);
 
-/* The same with the portable 16-byte-vector kernels even where the AVX2 ones
- * would run (the tests check both copies). */
-void bit_transpose_planes_to_words_portable(const uint64_t *first, size_t plane_stride,
-                                            unsigned bits, uint32_t *out);
-void bit_transpose_words_to_planes_portable(const uint32_t *in, unsigned bits, uint64_t *first,
-                                            size_t plane_stride);
+/* The same with the kernel copy of the highest available level not above
+ * `kernels` (pp_kernel_level.h); the two above use the host's fastest.  A PP
+ * array passes its own level, so a test that forces one level gets it for
+ * field reads and writes too; the tests check every copy the host has. */
+void bit_transpose_planes_to_words_at_level(pp_kernel_level_t kernels, const uint64_t *first,
+                                            size_t plane_stride, unsigned bits, uint32_t *out);
+void bit_transpose_words_to_planes_at_level(pp_kernel_level_t kernels, const uint32_t *in,
+                                            unsigned bits, uint64_t *first, size_t plane_stride);
 
 #endif

@@ -1,12 +1,15 @@
 /* pp_simd.h: build switches shared by the bit-sliced kernels (pp_array.c, qee.c, bit_transpose.c).
  *
  * The kernels (pp_kernels.inc, qee_kernels.inc, bit_transpose_kernels.inc)
- * are compiled twice by pp_simd_copies.inc: with 32-byte GCC vectors under
- * `#pragma GCC target("avx2")` (names *_avx2) and with 16-byte vectors that
- * any x86-64 (SSE2) or other host handles well (names *_base); each PP array
- * picks one at run time (pp_array_set_avx2).  Only bitwise operations are
- * used, so both copies compute the same bits: results never depend on the
- * host.  pp_vec.inc defines the vector helpers of one copy. */
+ * are compiled in up to three copies by pp_simd_copies.inc:
+ *   *_avx512  64-byte GCC vectors under `#pragma GCC target("avx512f")`,
+ *   *_avx2    32-byte vectors under `#pragma GCC target("avx2")`,
+ *   *_base    16-byte vectors that any x86-64 (SSE2) or other host handles well.
+ * Each PP array runs one of them, chosen at run time (pp_kernel_level.h:
+ * the fastest the host supports, or the one a test forces with
+ * pp_array_set_kernels).  Only bitwise operations are used, so every copy
+ * computes the same bits: results never depend on the host.  pp_vec.inc
+ * defines the vector helpers of one copy. */
 #ifndef PP5_PP_SIMD_H
 #define PP5_PP_SIMD_H
 
@@ -22,11 +25,15 @@
 #else
 #define UNROLL
 #endif
-/* Whether the AVX2 copies are built (GCC on x86-64; PP5_NO_CLONES disables). */
+/* Whether the AVX2 and AVX-512 copies are built: GCC on x86-64 (its target
+ * pragmas and __builtin_cpu_supports); PP5_NO_CLONES leaves only the base copy. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(PP5_NO_CLONES)
-#define PP_HAVE_AVX2_COPY 1
+#define PP_HAVE_X86_COPIES 1
 #else
-#define PP_HAVE_AVX2_COPY 0
+#define PP_HAVE_X86_COPIES 0
+#endif
+#if PP_HAVE_X86_COPIES
+#include <immintrin.h>   /* the AVX-512 copy's three-input logic (pp_vec.inc) */
 #endif
 
 #endif

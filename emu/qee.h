@@ -25,6 +25,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "pp_kernel_level.h"
+
 typedef struct {
     int32_t A, B, C, D, E, F;
 } qee_coeffs_t;
@@ -51,13 +53,26 @@ unsigned qee_serial_next_bit(qee_serial_t *s);
  * for the 64 PPs of plane word 16t + j (row 8t + j/2, columns 64(j%2)..+63,
  * PP column c in bit c % 64): the 16 words of the array's planes that hold
  * rows 8t..8t+7.  `scratch` holds QEE_SCRATCH_WORDS(bits) uint64 values;
- * bits <= 64 + 208.  use_avx2 selects the AVX2 kernel copy (same results;
- * only when the host has AVX2: see pp_array_set_avx2). */
+ * bits <= QEE_MAX_BITS (64 + 208).  `kernels` selects the kernel copy (same results; only a
+ * level the host has: see pp_kernel_level.h). */
+#define QEE_MAX_BITS (64u + 208u)
 #define QEE_CHAINS 8u
 #define QEE_LANES (2u * QEE_CHAINS)
-#define QEE_SCRATCH_WORDS(bits) ((3u * QEE_LANES + 4u) * (bits))
+#define QEE_SCRATCH_WORDS(bits) ((2u * QEE_LANES + 4u) * (bits))
 typedef void (*qee_step_fn)(void *ctx, unsigned step, const uint64_t *planes);
 void qee_eval_steps(const qee_coeffs_t *q, int x0, int y0, unsigned bits, uint64_t *scratch,
-                    qee_step_fn emit, void *ctx, bool use_avx2);
+                    qee_step_fn emit, void *ctx, pp_kernel_level_t kernels);
+
+/* Row-linear QEEs (no xy and no y^2 term, B = C = 0): Q(x, y + 8) = Q(x, y) +
+ * 8E, so step t of qee_eval_steps is its step 0 plus 8 E t in every lane,
+ * without the steps in between; the fast array evaluates them tile by tile.
+ * qee_row_linear_start writes step 0's planes (what qee_eval_steps hands to
+ * emit first: QEE_LANES words per plane) and returns 8E. */
+static inline bool qee_is_row_linear(const qee_coeffs_t *q)
+{
+    return q->B == 0 && q->C == 0;
+}
+int64_t qee_row_linear_start(const qee_coeffs_t *q, int x0, int y0, unsigned bits,
+                             uint64_t *step0, pp_kernel_level_t kernels);
 
 #endif

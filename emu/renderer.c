@@ -47,9 +47,12 @@ void renderer_free(renderer_t *r)
     free(r->bs_words);
     pp_array_free(r->array);
     backing_free(r->bs);
+    free(r->decoded);
     r->array = NULL;
     r->bs = NULL;
     r->bs_words = NULL;
+    r->decoded = NULL;
+    r->decoded_cap = 0;
 }
 
 void renderer_reset(renderer_t *r)
@@ -68,20 +71,41 @@ void renderer_set_region(renderer_t *r, int x0, int y0)
     r->y0 = y0;
 }
 
-/* Pass 1: the whole stream must decode and validate before anything runs. */
-static pp5_status_t validate_stream(const renderer_t *r, const uint32_t *words, size_t n_words)
+/* Room for one more decoded instruction after `count`. */
+static pp5_status_t decoded_room(renderer_t *r, size_t count)
+{
+    if (count < r->decoded_cap)
+        return PP5_OK;
+    size_t cap = r->decoded_cap ? 2 * r->decoded_cap : 64;
+    pp_insn_t *grown = realloc(r->decoded, cap * sizeof *grown);
+    if (!grown)
+        return pp5_fail(PP5_E_NOMEM, "renderer %d: no memory for a %zu-instruction stream",
+                        r->index, count + 1);
+    r->decoded = grown;
+    r->decoded_cap = cap;
+    return PP5_OK;
+}
+
+/* Pass 1: the whole stream must decode and validate before anything runs;
+ * its instructions are kept in r->decoded (*count of them). */
+static pp5_status_t validate_stream(renderer_t *r, const uint32_t *words, size_t n_words,
+                                    size_t *count)
 {
     size_t pos = 0;
-    pp_insn_t in;
+    *count = 0;
     while (pos < n_words) {
         size_t at = pos;
-        pp5_status_t st = pp_isa_decode(words, n_words, &pos, r->pp.mem_bits, &in);
+        pp5_status_t st = decoded_room(r, *count);
         if (st != PP5_OK)
             return st;
-        if (in.op == PP_OP_QEE && !qee_origin_ok(r->x0, r->y0))
+        pp_insn_t *in = &r->decoded[*count];
+        if ((st = pp_isa_decode(words, n_words, &pos, r->pp.mem_bits, in)) != PP5_OK)
+            return st;
+        if (in->op == PP_OP_QEE && !qee_origin_ok(r->x0, r->y0))
             return pp5_fail(PP5_E_FIRMWARE, "PP stream word %zu: QEE with region origin (%d, %d) "
                             "outside +-%d (the QEE's exact range)", at, r->x0, r->y0,
                             PP_REGION_COORD_MAX);
+        (*count)++;
     }
     return PP5_OK;
 }
@@ -118,7 +142,8 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
     memset(&out, 0, sizeof out);
     if (!r->array || !r->bs)
         return pp5_fail(PP5_E_RANGE, "renderer %d was not initialised", r->index);
-    pp5_status_t st = validate_stream(r, words, n_words);
+    size_t count;
+    pp5_status_t st = validate_stream(r, words, n_words, &count);
     if (st != PP5_OK) {
         if (res)
             *res = out;
@@ -127,31 +152,30 @@ pp5_status_t renderer_execute(renderer_t *r, const uint32_t *words, size_t n_wor
     bs_channel_t ch;
     bs_channel_reset(&ch);
     uint64_t now = 0;
-    size_t pos = 0;
-    pp_insn_t in;
-    while (pos < n_words) {
-        st = pp_isa_decode(words, n_words, &pos, r->pp.mem_bits, &in);
-        PP5_ASSERT(st == PP5_OK, "stream validated in pass 1");
-        const pp_op_info_t *op = pp_isa_info(in.op);
-        uint64_t start = ready_time(r, &ch, &in, now);
+    /* The cycles of an instruction never depend on PP data: the stream is
+     * timed first, then executed in batches (pp_array_exec_batch). */
+    for (size_t i = 0; i < count; i++) {
+        const pp_insn_t *in = &r->decoded[i];
+        const pp_op_info_t *op = pp_isa_info(in->op);
+        uint64_t start = ready_time(r, &ch, in, now);
         out.stall_cycles += start - now;
-        uint64_t cyc = pp_isa_cycles(&in, &r->pp);
+        uint64_t cyc = pp_isa_cycles(in, &r->pp);
         now = start + cyc;
-        if (in.op == PP_OP_BSLOAD || in.op == PP_OP_BSSTORE) {
-            unsigned lo = in.op == PP_OP_BSLOAD ? in.d : in.a;
-            bs_channel_issue(&ch, now, in.x, lo, PP_BS_BLOCK_BITS, r->pp.bs_block_cycles);
+        if (in->op == PP_OP_BSLOAD || in->op == PP_OP_BSSTORE) {
+            unsigned lo = in->op == PP_OP_BSLOAD ? in->d : in->a;
+            bs_channel_issue(&ch, now, in->x, lo, PP_BS_BLOCK_BITS, r->pp.bs_block_cycles);
             r->stats.bs_blocks++;
         }
         bs_channel_retire(&ch, now);
-        if (in.op == PP_OP_BSSTORE)
-            bs_words_drop(r, in.x);
-        pp_array_exec(r->array, r->bs, &in, r->x0, r->y0);
+        if (in->op == PP_OP_BSSTORE)
+            bs_words_drop(r, in->x);
         out.instructions++;
         out.class_cycles[op->cls] += cyc;
         out.class_instructions[op->cls]++;
-        r->stats.op_instructions[in.op]++;
-        r->stats.op_cycles[in.op] += cyc;
+        r->stats.op_instructions[in->op]++;
+        r->stats.op_cycles[in->op] += cyc;
     }
+    pp_array_exec_batch(r->array, r->bs, r->decoded, count, r->x0, r->y0);
     out.compute_cycles = now;
     out.bs_cycles = ch.busy_cycles;
     out.total_cycles = max64(now, ch.free_at);

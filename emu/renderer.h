@@ -66,6 +66,11 @@ typedef struct {
      * memory per block read (at most 8 MB per renderer, as much again as
      * the backing store). */
     uint32_t **bs_words;
+    /* The last stream, decoded by its validation (host speed only: the
+     * executor reads it instead of decoding every instruction again);
+     * grows to the longest stream seen. */
+    pp_insn_t *decoded;
+    size_t decoded_cap;
     renderer_stats_t stats;
 } renderer_t;
 

@@ -162,9 +162,10 @@ TEST(bit_transpose_index_pattern)
     free(words);
 }
 
-/* The portable copy (what hosts without AVX2 run) on random planes, every width,
- * odd plane strides included. */
-TEST(bit_transpose_portable_kernels)
+/* Every kernel copy the host has (the portable one is what hosts without AVX2
+ * run) on random planes, every width, odd plane strides included; a copy the
+ * host lacks is named. */
+TEST(bit_transpose_every_kernel_copy)
 {
     const size_t stride = PP_PLANE_WORDS + 3;          /* odd: unaligned plane starts */
     uint64_t *planes = malloc(33 * stride * sizeof *planes);
@@ -174,18 +175,30 @@ TEST(bit_transpose_portable_kernels)
     uint64_t s = 0xfeedfacecafebeefull;
     for (size_t i = 0; i < 33 * stride; i++)
         planes[i] = next_random(&s);
-    for (unsigned bits = 1; bits <= 32; bits++) {
-        unsigned lo = bits & 1u;                         /* odd first plane for odd widths */
-        bit_transpose_planes_to_words_portable(planes + lo * stride, stride, bits, words);
-        unsigned bad = count_word_mismatches(planes + lo * stride, stride, bits, words);
-        CHECK_MSG(bad == 0, "portable read of %u bits: %u PPs' words wrong", bits, bad);
-        for (unsigned p = 0; p < PP_COUNT; p++)
-            words[p] = (uint32_t)next_random(&s);
-        memcpy(before, planes, 33 * stride * sizeof *planes);
-        bit_transpose_words_to_planes_portable(words, bits, planes + lo * stride, stride);
-        bad = count_plane_mismatches(planes, before, stride, 33, lo, bits, words);
-        CHECK_MSG(bad == 0, "portable write of %u bits: %u plane bits wrong", bits, bad);
+    unsigned levels = 0;
+    for (int l = 0; l < PP_KERNEL_LEVELS; l++) {
+        const pp_kernel_level_t level = (pp_kernel_level_t)l;
+        const char *name = pp_kernel_level_name(level);
+        if (!pp_kernel_level_available(level)) {
+            printf("   note: this host or build has no %s kernels; they are not checked here\n",
+                   name);
+            continue;
+        }
+        levels++;
+        for (unsigned bits = 1; bits <= 32; bits++) {
+            unsigned lo = bits & 1u;                         /* odd first plane for odd widths */
+            bit_transpose_planes_to_words_at_level(level, planes + lo * stride, stride, bits, words);
+            unsigned bad = count_word_mismatches(planes + lo * stride, stride, bits, words);
+            CHECK_MSG(bad == 0, "%s read of %u bits: %u PPs' words wrong", name, bits, bad);
+            for (unsigned p = 0; p < PP_COUNT; p++)
+                words[p] = (uint32_t)next_random(&s);
+            memcpy(before, planes, 33 * stride * sizeof *planes);
+            bit_transpose_words_to_planes_at_level(level, words, bits, planes + lo * stride, stride);
+            bad = count_plane_mismatches(planes, before, stride, 33, lo, bits, words);
+            CHECK_MSG(bad == 0, "%s write of %u bits: %u plane bits wrong", name, bits, bad);
+        }
     }
+    CHECK(levels >= 1);
     free(words);
     free(before);
     free(planes);

@@ -40,6 +40,19 @@ static renderer_t *new_renderer(void)
     return &r;
 }
 
+/* Makes the array run kernel copy `level` and returns true when the host has
+ * it; otherwise says loudly that this copy goes unchecked here and returns
+ * false (the array keeps its kernels). */
+static bool use_kernels(renderer_t *r, pp_kernel_level_t level)
+{
+    if (!pp_kernel_level_available(level)) {
+        printf("   note: this host or build has no %s kernels; they are not checked here\n",
+               pp_kernel_level_name(level));
+        return false;
+    }
+    return pp_array_set_kernels(r->array, level) == level;
+}
+
 /* ---- random streams ---- */
 
 /* A field of `bits` at a random address inside the 208-bit memory. */
@@ -230,7 +243,7 @@ static unsigned compare(const renderer_t *r, const pp_ref_t *ref, const char *wh
 /* Runs `n_insns` random instructions (every opcode appears) through both
  * executors, one instruction per renderer_execute so a mismatch names it. */
 static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                  unsigned n_insns)
+                                  unsigned n_insns, pp_kernel_level_t level)
 {
     uint64_t s = seed * 0x9E3779B97F4A7C15ull + 1;
     renderer_t *r = new_renderer();
@@ -238,9 +251,7 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
-    /* Odd seeds use the host's fastest kernels (AVX2 if present), even seeds the
-     * portable 16-byte ones: both must match the reference. */
-    pp_array_set_avx2(r->array, seed % 2);
+    pp_array_set_kernels(r->array, level);
     /* Region origins: screen interior, screen edges, negative, the QEE limit. */
     static const int origins[][2] = {{0, 0}, {1152, 896}, {-128, -640}, {8064, -8064},
                                      {640, 384}, {-8064, 8064}};
@@ -293,10 +304,84 @@ static unsigned run_random_stream(uint64_t seed, const unsigned *pps, unsigned n
     return bad;
 }
 
+/* What a random program is made of (after every opcode once):
+ *   PROGRAM_ANY      random opcodes;
+ *   PROGRAM_REORDER  a QEE for a quarter of the instructions, an Enable
+ *                    instruction for an eighth, a backing-store transfer (of
+ *                    blocks 0..3, so that transfers of one block meet in a
+ *                    batch) for an eighth: the batches of pp_array_exec_batch
+ *                    run such QEEs and transfers before earlier instructions
+ *                    when that changes nothing, evaluate other QEEs into
+ *                    spare planes and fill those planes;
+ *   PROGRAM_SLOTS    the same kinds plus arithmetic on six 32-bit slots of
+ *                    memory, so that fields often do not overlap and
+ *                    transfers and QEEs often move ahead of arithmetic. */
+typedef enum { PROGRAM_ANY, PROGRAM_REORDER, PROGRAM_SLOTS } program_mix_t;
+
+static const char *const program_mix_names[] = {"", "reordering-heavy ", "slot "};
+
+static unsigned program_op(uint64_t *s, const unsigned *ops, unsigned n_ops, program_mix_t mix)
+{
+    static const unsigned enables[] = {PP_OP_EN_ALL, PP_OP_EN_FLAG, PP_OP_EN_AND,
+                                       PP_OP_EN_ANDN, PP_OP_EN_OR, PP_OP_EN_NOT};
+    unsigned r = rng_below(s, 8);
+    if (mix != PROGRAM_ANY && r < 2)
+        return PP_OP_QEE;
+    if (mix != PROGRAM_ANY && r == 2)
+        return enables[rng_below(s, 6)];
+    if (mix != PROGRAM_ANY && r == 3)
+        return rng_below(s, 2) ? PP_OP_BSLOAD : PP_OP_BSSTORE;
+    if (mix == PROGRAM_SLOTS) {
+        static const unsigned arith[] = {PP_OP_ADD, PP_OP_SUB, PP_OP_COPY, PP_OP_CMP};
+        return arith[rng_below(s, 4)];
+    }
+    return ops[rng_below(s, n_ops)];
+}
+
+/* One instruction of opcode `op` whose fields are slots (32 k) of width <= 32. */
+static void emit_slot_insn(pp_stream_t *st, uint64_t *s, unsigned op)
+{
+    unsigned d = 32 * rng_below(s, 6), a = 32 * rng_below(s, 6), b = 32 * rng_below(s, 6);
+    unsigned n = 1 + rng_below(s, 32);
+    switch (op) {
+    case PP_OP_BSLOAD: pp_emit_bsload(st, d, rng_below(s, 4)); break;
+    case PP_OP_BSSTORE: pp_emit_bsstore(st, rng_below(s, 4), a); break;
+    case PP_OP_QEE:
+        pp_emit_qee(st, d, n, rng_below(s, 20), rand_coeff(s), rand_coeff(s), rand_coeff(s),
+                    rand_coeff(s), rand_coeff(s), rand_coeff(s));
+        break;
+    case PP_OP_ADD: pp_emit_add(st, d, a, b, n); break;
+    case PP_OP_SUB: pp_emit_sub(st, d, a, b, n); break;
+    case PP_OP_COPY: pp_emit_copy(st, d, a, n); break;
+    case PP_OP_CMP: pp_emit_cmp(st, rng_below(s, PP_COND_COUNT), a, b, n); break;
+    default: emit_random(st, s, op); break;             /* Enable instructions */
+    }
+}
+
+/* Instruction i of a random program: every opcode once, then as `mix` says. */
+static void emit_program_insn(pp_stream_t *st, uint64_t *s, const unsigned *ops, unsigned n_ops,
+                              unsigned i, program_mix_t mix)
+{
+    if (i < n_ops) {
+        emit_random(st, s, ops[i]);
+        return;
+    }
+    unsigned op = program_op(s, ops, n_ops, mix);
+    if (mix == PROGRAM_SLOTS)
+        emit_slot_insn(st, s, op);
+    else if (mix == PROGRAM_REORDER && op == PP_OP_BSLOAD)
+        pp_emit_bsload(st, rand_addr(s, 32), rng_below(s, 4));
+    else if (mix == PROGRAM_REORDER && op == PP_OP_BSSTORE)
+        pp_emit_bsstore(st, rng_below(s, 4), rand_addr(s, 32));
+    else
+        emit_random(st, s, op);
+}
+
 /* The same comparison with the whole program sent as ONE stream (exercises
- * decoding of consecutive instructions with immediates); compared at the end. */
+ * decoding of consecutive instructions with immediates, and the fast array's
+ * batches); compared at the end. */
 static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned n_pps,
-                                   unsigned n_insns)
+                                   unsigned n_insns, pp_kernel_level_t level, program_mix_t mix)
 {
     uint64_t s = seed * 0xD1B54A32D192ED03ull + 7;
     renderer_t *r = new_renderer();
@@ -304,14 +389,14 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     if (!r || pp_ref_init(&ref, pps, n_pps) != PP5_OK)
         return 1;
     randomize(r, &ref, &s);
-    pp_array_set_avx2(r->array, seed % 2);
+    pp_array_set_kernels(r->array, level);
     int ox = (int)rng_below(&s, 2000) - 500, oy = (int)rng_below(&s, 2000) - 500;
     renderer_set_region(r, ox, oy);
     unsigned ops[PP_OP_LIMIT], n_ops = legal_ops(ops);
     pp_stream_t st;
     pp_stream_init(&st);
     for (unsigned i = 0; i < n_insns; i++)
-        emit_random(&st, &s, i < n_ops ? ops[i] : ops[rng_below(&s, n_ops)]);
+        emit_program_insn(&st, &s, ops, n_ops, i, mix);
     unsigned bad = 0;
     renderer_exec_result_t res;
     if (!CHECK_MSG(pp_stream_ok(&st), "encoder: %s", pp_stream_error(&st)) ||
@@ -330,7 +415,8 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
         CHECK_EQ(decoded, n_insns);
         CHECK_EQ(res.instructions, n_insns);
         char ctx[80];
-        snprintf(ctx, sizeof ctx, "one-stream program, seed %llu", (unsigned long long)seed);
+        snprintf(ctx, sizeof ctx, "one-stream %sprogram, seed %llu", program_mix_names[mix],
+                 (unsigned long long)seed);
         bad = compare(r, &ref, ctx, 0, PP_BS_BLOCKS);
     }
     pp_stream_free(&st);
@@ -338,12 +424,15 @@ static unsigned run_random_program(uint64_t seed, const unsigned *pps, unsigned 
     return bad;
 }
 
-TEST(pp_random_streams_match_reference_on_sampled_pps)
+/* 150 streams x 80 instructions on kernel copy `level`, each compared on 256
+ * PPs (the four corners and 252 random ones) after every instruction; plus 30
+ * programs of each mix (program_mix_t) of 120 instructions sent as one stream
+ * and compared at the end.  SKIPs when the host lacks the level. */
+static void random_streams_on_sampled_pps(pp_kernel_level_t level)
 {
-    /* 150 streams x 80 instructions, each compared on 256 PPs (the four corners
-     * and 252 random ones) after every instruction; plus 30 programs of 120
-     * instructions sent as one stream and compared at the end. */
     enum { STREAMS = 150, INSNS = 80, PPS = 256 };
+    if (!pp_kernel_level_available(level))
+        SKIP("this host or build has no %s kernels", pp_kernel_level_name(level));
     unsigned pps[PPS], failed = 0;
     for (unsigned seed = 1; seed <= STREAMS; seed++) {
         uint64_t s = seed;
@@ -353,27 +442,91 @@ TEST(pp_random_streams_match_reference_on_sampled_pps)
         pps[3] = PP_COUNT - 1;
         for (unsigned i = 4; i < PPS; i++)
             pps[i] = rng_below(&s, PP_COUNT);
-        failed += run_random_stream(seed, pps, PPS, INSNS) != 0;
+        failed += run_random_stream(seed, pps, PPS, INSNS, level) != 0;
         if (seed % 5 == 0)
-            failed += run_random_program(seed, pps, PPS, 120) != 0;
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_ANY) != 0;
+        if (seed % 5 == 2)
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_REORDER) != 0;
+        if (seed % 5 == 4)
+            failed += run_random_program(seed, pps, PPS, 120, level, PROGRAM_SLOTS) != 0;
         if (failed)
             break;
     }
     CHECK_EQ(failed, 0);
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
+}
+
+TEST(pp_random_streams_match_reference_portable_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_PORTABLE);
+}
+
+TEST(pp_random_streams_match_reference_avx2_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_AVX2);
+}
+
+TEST(pp_random_streams_match_reference_avx512_kernels)
+{
+    random_streams_on_sampled_pps(PP_KERNELS_AVX512);
 }
 
 TEST(pp_random_streams_match_reference_on_all_pps)
 {
-    /* Whole array: every one of the 16384 PPs, 2 streams x 40 instructions. */
+    /* Whole array: every one of the 16384 PPs, one stream of 40 instructions
+     * and a reordering-heavy and a slot program of 60 on each kernel copy the
+     * host has. */
     unsigned *pps = malloc(PP_COUNT * sizeof *pps);
     REQUIRE(pps);
     for (unsigned i = 0; i < PP_COUNT; i++)
         pps[i] = i;
-    unsigned failed = 0;
-    for (uint64_t seed = 1001; seed <= 1002; seed++)
-        failed += run_random_stream(seed, pps, PP_COUNT, 40) != 0;
+    unsigned failed = 0, checked = 0;
+    renderer_t *r = new_renderer();
+    REQUIRE(r);
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        failed += run_random_stream(1001 + (uint64_t)level, pps, PP_COUNT, 40,
+                                    (pp_kernel_level_t)level) != 0;
+        failed += run_random_program(1001 + (uint64_t)level, pps, PP_COUNT, 60,
+                                     (pp_kernel_level_t)level, PROGRAM_REORDER) != 0;
+        failed += run_random_program(1001 + (uint64_t)level, pps, PP_COUNT, 60,
+                                     (pp_kernel_level_t)level, PROGRAM_SLOTS) != 0;
+        checked++;
+    }
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     free(pps);
     CHECK_EQ(failed, 0);
+    CHECK(checked >= 1);
+}
+
+/* The level API: a wanted level falls back to the highest one the host has,
+ * the portable copy is always there, and an array reports what it runs. */
+TEST(pp_kernel_levels_fall_back_to_what_the_host_has)
+{
+    CHECK(pp_kernel_level_available(PP_KERNELS_PORTABLE));
+    CHECK_EQ(pp_kernel_level_at_most(PP_KERNELS_PORTABLE), PP_KERNELS_PORTABLE);
+    pp_kernel_level_t best = pp_kernel_level_best();
+    CHECK(pp_kernel_level_available(best));
+    CHECK_EQ(pp_kernel_level_at_most(PP_KERNELS_AVX512), best);
+    for (int level = best + 1; level < PP_KERNEL_LEVELS; level++)
+        CHECK(!pp_kernel_level_available((pp_kernel_level_t)level));
+    if (pp_kernel_level_available(PP_KERNELS_AVX512))
+        CHECK(pp_kernel_level_available(PP_KERNELS_AVX2));
+    pp_array_t *a = NULL;
+    REQUIRE(pp_array_alloc(&a) == PP5_OK);
+    CHECK_EQ(a->kernels, best);
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        pp_kernel_level_t got = pp_array_set_kernels(a, (pp_kernel_level_t)level);
+        CHECK_EQ(got, pp_kernel_level_at_most((pp_kernel_level_t)level));
+        CHECK_EQ(a->kernels, got);
+        pp_array_clear(a);                          /* clearing keeps the choice */
+        CHECK_EQ(a->kernels, got);
+    }
+    pp_array_free(a);
+    printf("   note: kernels on this host: %s\n", pp_kernel_level_describe(best));
 }
 
 /* ---- every operation against an integer model (independent of both executors) ---- */
@@ -516,8 +669,11 @@ TEST(pp_every_op_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 77;
     unsigned cases = 0, bad = 0;
-    for (int kernels = 0; kernels < 2; kernels++) {
-        pp_array_set_avx2(r->array, kernels);        /* portable, then the host's fastest */
+    unsigned levels = 0;
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        levels++;
         for (size_t oi = 0; oi < sizeof ops / sizeof ops[0]; oi++)
             for (size_t wi = 0; wi < 4; wi++)
                 for (unsigned rep = 0; rep < 3; rep++) {
@@ -556,9 +712,9 @@ TEST(pp_every_op_matches_an_integer_model)
                     }
                 }
     }
-    pp_array_set_avx2(r->array, true);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 2 * 19 * 4 * 3);
+    CHECK_EQ(cases, levels * 19 * 4 * 3);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
@@ -587,8 +743,11 @@ TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
     REQUIRE(a && b && d && ctl && out);
     uint64_t s = 4242;
     unsigned cases = 0, bad = 0;
-    for (int kernels = 0; kernels < 2; kernels++) {
-        pp_array_set_avx2(r->array, kernels);
+    unsigned levels = 0;
+    for (int level = 0; level < PP_KERNEL_LEVELS; level++) {
+        if (!use_kernels(r, (pp_kernel_level_t)level))
+            continue;
+        levels++;
         for (size_t k = 0; k < sizeof nm / sizeof nm[0]; k++)
             for (unsigned variant = 0; variant < 4; variant++) {
                 model_case_t c = {variant < 2 ? PP_OP_MUL : PP_OP_MULI, nm[k][0], nm[k][1], 0, 0,
@@ -613,9 +772,9 @@ TEST(pp_multiply_of_sparse_and_small_operands_matches_an_integer_model)
                 }
             }
     }
-    pp_array_set_avx2(r->array, true);
+    pp_array_set_kernels(r->array, pp_kernel_level_best());
     CHECK_EQ(bad, 0);
-    CHECK_EQ(cases, 2 * 5 * 4);
+    CHECK_EQ(cases, levels * 5 * 4);
     free(a); free(b); free(d); free(ctl); free(out);
 }
 
