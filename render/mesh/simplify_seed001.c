@@ -32,8 +32,11 @@
  * keeps one).  Both do the same double operations in the same order (no
  * fused multiply-add: ISO C mode does not contract, and neither copy
  * enables FMA), so every cost is the same bits on any host; the AVX2 copy
- * needs fewer instructions (three-operand forms, wider vectors). */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(PP5_NO_CLONES)
+ * needs fewer instructions (three-operand forms, wider vectors).  Not
+ * under ThreadSanitizer: the loader runs the clones' resolver before the
+ * TSan runtime is set up, and the instrumented resolver then faults. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(PP5_NO_CLONES) && !defined(__SANITIZE_THREAD__)
 #define S001_CLONED __attribute__((target_clones("avx2", "default")))
 #else
 #define S001_CLONED
