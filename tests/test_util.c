@@ -1,16 +1,48 @@
 /* test_util.c: tests of the shared utilities (JSON writer, PNG round trip,
  * checked sizes, strict option parsing, the command registry). */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "cliopt.h"
 #include "harness.h"
+#include "huge_alloc.h"
 #include "json.h"
 #include "png_io.h"
 #include "registry.h"
 #include "status.h"
+
+/* Small and large arrays are aligned to a cache line and zeroed when asked;
+ * growing across the huge-page threshold keeps the contents; a size whose
+ * rounding would wrap is refused rather than mapped short. */
+TEST(util_huge_alloc_sizes_alignment_growth_and_absurd_sizes)
+{
+    size_t small = 1000, large = (size_t)5 << 20;
+    unsigned char *a = huge_alloc(small, true);
+    REQUIRE(a);
+    CHECK_EQ((uintptr_t)a % 64, 0);
+    bool zero = true;
+    for (size_t i = 0; i < small; i++)
+        zero = zero && a[i] == 0;
+    CHECK(zero);
+    for (size_t i = 0; i < small; i++)
+        a[i] = (unsigned char)(i * 7);
+    unsigned char *b = huge_grow(a, small, small, large);
+    REQUIRE(b);
+    CHECK_EQ((uintptr_t)b % 64, 0);
+    bool kept = true;
+    for (size_t i = 0; i < small; i++)
+        kept = kept && b[i] == (unsigned char)(i * 7);
+    CHECK(kept);
+    b[large - 1] = 1;   /* the whole length is writable */
+    CHECK(b[large - 1] == 1);
+    huge_free(b, large);
+    CHECK(huge_alloc(SIZE_MAX - 10, false) == NULL);
+    CHECK(huge_alloc(SIZE_MAX / 2 + 1, true) == NULL);
+    huge_free(NULL, large);
+}
 
 TEST(util_json_nesting_and_escapes)
 {

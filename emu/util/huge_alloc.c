@@ -15,6 +15,9 @@ static size_t whole_pages(size_t bytes)
 
 void *huge_alloc(size_t bytes, bool zero)
 {
+    /* rounding up to whole pages (plus one to align) must not wrap */
+    if (bytes > SIZE_MAX / 2)
+        return NULL;
     if (bytes < HUGE_PAGE) {   /* whole cache lines, so records of a line stay on one */
         size_t lines = (bytes + LINE - 1) / LINE * LINE;
         void *p = aligned_alloc(LINE, lines ? lines : LINE);
