@@ -17,10 +17,33 @@ pp5_status_t bench_render_scene(scene_t *sc);
 /* The benchmark's frame: side x side, gaze at the centre, the scene's view. */
 void bench_render_settings(const scene_t *sc, int side, render_mode_t mode, render_settings_t *s);
 
-/* Median frame time of `reps` frames (reps <= 9); `last` gets the last
- * frame's counts. */
+#define BENCH_MAX_REPS 9
+
+/* Median frame time of `reps` frames (reps <= BENCH_MAX_REPS); `last` gets
+ * the last frame's counts. */
 pp5_status_t bench_render_frames(native_renderer_t *r, const render_settings_t *s, int reps,
                                  double *ms, render_stats_t *last);
+
+/* Median of n values (n <= BENCH_MAX_REPS; 0 when n is 0). */
+double bench_median(const double *x, int n);
+
+/* One setting of an alternated measurement: its frame times by round, their
+ * median and the last frame's counts. */
+typedef struct {
+    render_settings_t s;
+    double t[BENCH_MAX_REPS], ms;
+    int reps;
+    render_stats_t stats;
+} bench_frames_t;
+
+/* `reps` rounds (at most BENCH_MAX_REPS), each one frame of every setting
+ * in turn; fills t, ms, reps and stats of each. */
+pp5_status_t bench_render_alternating(native_renderer_t *r, bench_frames_t *set, int n, int reps);
+
+/* Median over the rounds of a's frame time over b's in the same round, with
+ * the smallest and largest of those per-round ratios. */
+double bench_paired_ratio(const bench_frames_t *a, const bench_frames_t *b, double *lo,
+                          double *hi);
 
 /* The fastest of `reps` frames: wall time and the process's CPU time (all
  * threads), the figures least disturbed by other jobs on a shared host. */
