@@ -39,11 +39,13 @@ pp5_status_t bench_render_frames(native_renderer_t *r, const render_settings_t *
 double bench_median(const double *x, int n)
 {
     double t[BENCH_MAX_REPS];
+    if (n <= 0)
+        return 0.0;       /* (x may be NULL then: memcpy must not see it) */
     if (n > BENCH_MAX_REPS)
         n = BENCH_MAX_REPS;
     memcpy(t, x, (size_t)n * sizeof t[0]);
     qsort(t, (size_t)n, sizeof t[0], cmp_double);
-    return n > 0 ? t[n / 2] : 0.0;
+    return t[n / 2];
 }
 
 /* Rounds of one frame per setting, so that every setting of a ratio sees
