@@ -17,23 +17,16 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* Median frame time over `reps` frames (first frame not discarded: the
- * renderer keeps no per-view caches outside progressive mode). */
+ * renderer keeps no per-view caches outside progressive mode): one setting
+ * "alternated" with itself. */
 pp5_status_t bench_render_frames(native_renderer_t *r, const render_settings_t *s, int reps,
                                  double *ms, render_stats_t *last)
 {
-    double t[BENCH_MAX_REPS];
-    if (reps > BENCH_MAX_REPS)
-        reps = BENCH_MAX_REPS;
-    for (int i = 0; i < reps; i++) {
-        image8_t img;
-        pp5_status_t st = native_renderer_frame(r, s, &img, last);
-        if (st != PP5_OK)
-            return st;
-        image8_free(&img);
-        t[i] = last->ms_total;
-    }
-    *ms = bench_median(t, reps);
-    return PP5_OK;
+    bench_frames_t f = {.s = *s};
+    pp5_status_t st = bench_render_alternating(r, &f, 1, reps);
+    *ms = f.ms;
+    *last = f.stats;
+    return st;
 }
 
 double bench_median(const double *x, int n)
