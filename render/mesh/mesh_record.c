@@ -12,7 +12,7 @@ void mesh_record_free(mesh_record_t *r)
     free(r->pos), free(r->parent), free(r->death);
     free(r->tri), free(r->face_death), free(r->face_src);
     free(r->level_step), free(r->level_faces), free(r->level_vertices);
-    free(r->scratch_map), free(r->scratch_rep), free(r->scratch_stamp), free(r->scratch_mstamp);
+    free(r->scratch_map), free(r->scratch_mstamp);
     memset(r, 0, sizeof *r);
 }
 
@@ -20,11 +20,9 @@ static pp5_status_t record_alloc_scratch(mesh_record_t *r)
 {
     size_t n = (size_t)r->n_vertices + 1;
     r->scratch_map = malloc(sizeof *r->scratch_map * n);
-    r->scratch_rep = malloc(sizeof *r->scratch_rep * n);
-    r->scratch_stamp = calloc(n, sizeof *r->scratch_stamp);
     r->scratch_mstamp = calloc(n, sizeof *r->scratch_mstamp);
     r->stamp = 0;
-    if (!r->scratch_map || !r->scratch_rep || !r->scratch_stamp || !r->scratch_mstamp)
+    if (!r->scratch_map || !r->scratch_mstamp)
         return pp5_fail(PP5_E_NOMEM, "record: out of memory");
     return PP5_OK;
 }
@@ -94,13 +92,34 @@ int mesh_record_level_for_faces(const mesh_record_t *r, int faces)
     return lo;
 }
 
-/* The vertex that stands for v after `step` steps (its last ancestor alive). */
-static int32_t record_rep(mesh_record_t *r, int32_t v, int32_t step)
+/* The vertices that stand for the input vertices v[0 .. n) after `step`
+ * steps (each one's last ancestor alive), written to rep.  A coarse level's
+ * chains are long (about 7 merges per corner at 1 % of the bunny) and each
+ * link is a load that depends on the one before, so one chain at a time
+ * waits on every load.  Eight chains are walked side by side, which keeps
+ * eight loads in flight. */
+enum { REP_LANES = 8 };
+
+static void record_reps(const mesh_record_t *r, const int32_t *v, int n, int32_t step,
+                        int32_t *rep)
 {
-    int32_t root = v;
-    while (r->death[root] <= step)
-        root = r->parent[root];
-    return root;
+    const int32_t *death = r->death, *parent = r->parent;
+    for (int i = 0; i < n; i += REP_LANES) {
+        int32_t u[REP_LANES];
+        /* a short last batch repeats its last vertex in the spare lanes */
+        for (int k = 0; k < REP_LANES; k++)
+            u[k] = v[i + k < n ? i + k : n - 1];
+        for (bool moved = true; moved;) {
+            moved = false;
+            for (int k = 0; k < REP_LANES; k++)
+                if (death[u[k]] <= step) {
+                    u[k] = parent[u[k]];
+                    moved = true;
+                }
+        }
+        for (int k = 0; k < REP_LANES && i + k < n; k++)
+            rep[i + k] = u[k];
+    }
 }
 
 pp5_status_t mesh_record_extract(mesh_record_t *r, int level, mesh_t *out)
@@ -113,20 +132,15 @@ pp5_status_t mesh_record_extract(mesh_record_t *r, int level, mesh_t *out)
     if (st != PP5_OK)
         return st;
     if (++r->stamp == 0) {   /* stamps wrapped: clear them once */
-        memset(r->scratch_stamp, 0, sizeof *r->scratch_stamp * (size_t)r->n_vertices);
         memset(r->scratch_mstamp, 0, sizeof *r->scratch_mstamp * (size_t)r->n_vertices);
         r->stamp = 1;
     }
+    /* the corners' representatives first, into the output's own faces */
+    record_reps(r, r->tri, 3 * nf, step, out->tri);
     int nv = 0;
     for (int i = 0; i < 3 * nf; i++) {
-        int32_t v = r->tri[i];
-        /* each input vertex's representative is found once per extraction */
-        if (r->scratch_stamp[v] != r->stamp) {
-            r->scratch_stamp[v] = r->stamp;
-            r->scratch_rep[v] = record_rep(r, v, step);
-        }
-        int32_t rep = r->scratch_rep[v];
-        /* and each representative numbered once, in order of first use */
+        int32_t rep = out->tri[i];
+        /* each representative numbered once, in order of first use */
         if (r->scratch_mstamp[rep] != r->stamp) {
             if (nv == cap_v) {
                 mesh_free(out);

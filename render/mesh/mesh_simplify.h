@@ -87,8 +87,8 @@ typedef struct {
     int32_t *level_faces;    /* faces at each level (non-increasing) */
     int32_t *level_vertices;
     /* Extraction scratch (not thread-safe: one extraction at a time). */
-    int32_t *scratch_map, *scratch_rep;
-    uint32_t *scratch_stamp, *scratch_mstamp, stamp;
+    int32_t *scratch_map;    /* record vertex -> its number in the level */
+    uint32_t *scratch_mstamp, stamp; /* scratch_map[v] is current when its stamp is */
 } mesh_record_t;
 
 /* Simplifies `in` (which must be edge-manifold); out (the mesh at the
