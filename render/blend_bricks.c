@@ -8,6 +8,7 @@
 
 #include "blend_fast.h"
 #include "gaze2d.h"
+#include "parallel.h"
 
 bool blend_bricks_apply(const blend_ctx_t *c)
 {
@@ -114,6 +115,7 @@ void blend_bins_free(blend_bins_t *b)
     free(b->start);
     free(b->entry);
     free(b->next);
+    free(b->kept);
     memset(b, 0, sizeof *b);
 }
 
@@ -139,6 +141,13 @@ static bool reserve(void **p, size_t *cap, size_t n, size_t size)
                 body;                                                                 \
         }
 
+/* Runs body with i set to every kept brick, in brick order: chunk k's
+ * bricks sit at [k BINS_CHUNK, k BINS_CHUNK + kept[k]). */
+#define FOR_KEPT(bins, i, body)                                                      \
+    for (size_t k_ = 0; k_ < (bins)->chunks; k_++)                                    \
+        for (size_t i = k_ * BINS_CHUNK; i < k_ * BINS_CHUNK + (bins)->kept[k_]; i++) \
+            body
+
 static pp5_status_t bins_fill(blend_bins_t *b, const uint8_t *active)
 {
     size_t tiles = (size_t)b->tiles_x * b->tiles_y, total = 0, cap = b->tile_cap;
@@ -146,8 +155,7 @@ static pp5_status_t bins_fill(blend_bins_t *b, const uint8_t *active)
         !reserve((void **)&b->next, &b->tile_cap, tiles + 1, sizeof *b->next))
         return pp5_fail(PP5_E_NOMEM, "render: out of memory for the brick bins");
     memset(b->start, 0, (tiles + 1) * sizeof *b->start);
-    for (size_t i = 0; i < b->bricks; i++)
-        FOR_TILES(b, &b->brick[i], active, t, b->start[t + 1]++);
+    FOR_KEPT(b, i, FOR_TILES(b, &b->brick[i], active, t, b->start[t + 1]++));
     for (size_t t = 0; t < tiles; t++) {
         total += b->start[t + 1];
         PP5_ASSERT(total <= UINT32_MAX, "brick bins overflow");
@@ -156,8 +164,7 @@ static pp5_status_t bins_fill(blend_bins_t *b, const uint8_t *active)
     if (!reserve((void **)&b->entry, &b->entry_cap, total ? total : 1, sizeof *b->entry))
         return pp5_fail(PP5_E_NOMEM, "render: out of memory for the brick bins");
     memcpy(b->next, b->start, tiles * sizeof *b->next);
-    for (size_t i = 0; i < b->bricks; i++)
-        FOR_TILES(b, &b->brick[i], active, t, b->entry[b->next[t]++] = (uint32_t)i);
+    FOR_KEPT(b, i, FOR_TILES(b, &b->brick[i], active, t, b->entry[b->next[t]++] = (uint32_t)i));
     return PP5_OK;
 }
 
@@ -215,8 +222,42 @@ static bool brick_culled(const brick_cull_t *k, const uint16_t coord[3])
            cj - k->rj > k->hi_j;
 }
 
+/* What the chunks of one level's bricks share while they are described. */
+typedef struct {
+    blend_bins_t *b;
+    const blend_ctx_t *c;
+    const scalar_level_t *L;
+    texel_axis_t ti, tj;
+    brick_cull_t cull;
+} bins_job_t;
+
+/* Describes chunk k's bricks that may change a ray of an active tile into
+ * the chunk's own stretch of b->brick.  The order is by bound, so the first
+ * brick of material 0 ends the chunk (and every later chunk at its start). */
+static void bins_describe_chunk(void *ctx, int k, int thread)
+{
+    (void)thread;
+    const bins_job_t *job = ctx;
+    blend_bins_t *b = job->b;
+    const scalar_level_t *L = job->L;
+    const int h = L->brick_height;
+    size_t i0 = (size_t)k * BINS_CHUNK, i1 = i0 + BINS_CHUNK, kept = 0;
+    i1 = i1 < L->brick_count ? i1 : L->brick_count;
+    for (size_t i = i0; i < i1; i++) {
+        if (!(blend_material(&job->c->frame.window, L->node_max[h][L->brick_order[i]]) > 0.0f))
+            break;
+        if (brick_culled(&job->cull, L->brick_coord[i]))
+            continue;
+        blend_brick_t *br = &b->brick[i0 + kept];
+        brick_describe(job->c, L, b->level3d, i, br);
+        if (brick_footprint(&job->ti, &job->tj, b->tex_w, b->tex_h, br))
+            kept++;
+    }
+    b->kept[k] = (uint32_t)kept;
+}
+
 pp5_status_t blend_bins_build(blend_bins_t *b, const blend_ctx_t *c, int level2d, int tex_w,
-                              int tex_h, const uint8_t *active)
+                              int tex_h, const uint8_t *active, int threads)
 {
     const camera_t *cam = c->camera;
     b->bricks = 0;
@@ -227,24 +268,22 @@ pp5_status_t blend_bins_build(blend_bins_t *b, const blend_ctx_t *c, int level2d
     b->tiles_x = (tex_w + BLEND_TILE - 1) / BLEND_TILE;
     b->tiles_y = (tex_h + BLEND_TILE - 1) / BLEND_TILE;
     const scalar_level_t *L = &c->pyr->level[b->level3d];
-    texel_axis_t ti = texel_axis(cam, cam->right, cam->width, level2d);
-    texel_axis_t tj = texel_axis(cam, cam->down, cam->height, level2d);
+    bins_job_t job = {.b = b, .c = c, .L = L,
+                      .ti = texel_axis(cam, cam->right, cam->width, level2d),
+                      .tj = texel_axis(cam, cam->down, cam->height, level2d)};
+    b->chunks = (L->brick_count + BINS_CHUNK - 1) / BINS_CHUNK;
     if (!reserve((void **)&b->brick, &b->brick_cap, L->brick_count ? L->brick_count : 1,
-                 sizeof *b->brick))
+                 sizeof *b->brick) ||
+        !reserve((void **)&b->kept, &b->kept_cap, b->chunks ? b->chunks : 1, sizeof *b->kept))
         return pp5_fail(PP5_E_NOMEM, "render: out of memory for the brick bins");
-    brick_cull_t cull;
-    bins_cull_init(b, &ti, &tj, L, b->level3d, active, &cull);
-    const int h = L->brick_height;
-    for (size_t i = 0; i < L->brick_count; i++) {
-        if (!(blend_material(&c->frame.window, L->node_max[h][L->brick_order[i]]) > 0.0f))
-            break;                /* the order is by bound: the rest are 0 too */
-        if (brick_culled(&cull, L->brick_coord[i]))
-            continue;
-        blend_brick_t *br = &b->brick[b->bricks];
-        brick_describe(c, L, b->level3d, i, br);
-        if (brick_footprint(&ti, &tj, tex_w, tex_h, br))
-            b->bricks++;
-    }
+    bins_cull_init(b, &job.ti, &job.tj, L, b->level3d, active, &job.cull);
+    /* Chunks of a fixed size, each writing only its own stretch and count:
+     * the bins are the same for any number of threads. */
+    pp5_status_t st = parallel_for(threads, (int)b->chunks, bins_describe_chunk, &job);
+    if (st != PP5_OK)
+        return st;
+    for (size_t k = 0; k < b->chunks; k++)
+        b->bricks += b->kept[k];
     return bins_fill(b, active);
 }
 

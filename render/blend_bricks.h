@@ -63,23 +63,30 @@ typedef struct {
 typedef struct {
     int level2d, level3d;
     int tex_w, tex_h, tiles_x, tiles_y;
-    blend_brick_t *brick;
-    size_t bricks;
+    blend_brick_t *brick;         /* chunk k's kept bricks at [k BINS_CHUNK, + kept[k]) */
+    size_t bricks;                /* kept, over all chunks */
+    uint32_t *kept;               /* per chunk of the level's brick order */
+    size_t chunks;
     uint32_t *start;              /* per tile, tiles + 1 offsets into entry */
     uint32_t *entry;              /* indices into brick */
     uint32_t *next;               /* scratch: per tile, the next entry to fill */
     /* Allocated sizes, kept from frame to frame: a frame's bins are rebuilt
      * in place (fresh pages would cost more than the binning itself). */
-    size_t brick_cap, tile_cap, entry_cap;
+    size_t brick_cap, tile_cap, entry_cap, kept_cap;
 } blend_bins_t;
+
+/* Bricks per chunk of the level's order, described by one thread: fixed,
+ * so that the bins do not depend on the thread count. */
+#define BINS_CHUNK 256
 
 /* True when brick order applies: MIP or DEMIP, parallel, skipping on. */
 bool blend_bricks_apply(const blend_ctx_t *c);
 /* Bins level2d's bricks for a tex_w x tex_h texel grid; `active` (one byte
  * per tile, may be NULL for all) leaves idle tiles empty.  `b` is zeroed
- * or a previous frame's bins, whose memory is reused. */
+ * or a previous frame's bins, whose memory is reused.  The bricks are
+ * described on `threads` threads (parallel_for's meaning). */
 pp5_status_t blend_bins_build(blend_bins_t *b, const blend_ctx_t *c, int level2d, int tex_w,
-                              int tex_h, const uint8_t *active);
+                              int tex_h, const uint8_t *active, int threads);
 void blend_bins_free(blend_bins_t *b);
 /* Traces texels (ti[k], tj[k]), k < count, all in tile `tile` (at most
  * BLEND_TILE^2), into rgb[k]. */

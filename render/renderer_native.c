@@ -281,7 +281,7 @@ static void job_cast_tile(void *ctx, int item, int thread)
 }
 
 /* Bins every level's bricks to the tiles that have texels to cast. */
-static pp5_status_t frame_bin_bricks(frame_job_t *job)
+static pp5_status_t frame_bin_bricks(frame_job_t *job, int threads)
 {
     const mip2d_t *m = &job->r->mip2d;
     job->tile_level[0] = 0;
@@ -298,7 +298,8 @@ static pp5_status_t frame_bin_bricks(frame_job_t *job)
                     active[(j / BLEND_TILE) * tx + i / BLEND_TILE] = 1;
             }
         if (st == PP5_OK)
-            st = blend_bins_build(&job->r->bins[l], &job->blend, l, m->w[l], m->h[l], active);
+            st = blend_bins_build(&job->r->bins[l], &job->blend, l, m->w[l], m->h[l], active,
+                                  threads);
         free(active);
         job->tile_level[l + 1] = job->tile_level[l] + tx * ty;
     }
@@ -432,7 +433,7 @@ static pp5_status_t frame_cast_texels(frame_job_t *job, int threads, pp5_status_
     if (st != PP5_OK)
         return st;
     if (job->s->blend.mode != BLEND_COMPOSITE && blend_bricks_apply(&job->blend)) {
-        st = frame_bin_bricks(job);
+        st = frame_bin_bricks(job, threads);
         if (st == PP5_OK)
             st = parallel_for(threads, job->tile_level[m->levels], job_cast_tile, job);
         for (int t = 0; st == PP5_OK && t < PARALLEL_MAX_THREADS; t++)

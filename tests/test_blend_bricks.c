@@ -104,7 +104,8 @@ static void trace_case(const pyramid_t *p, const brick_case_t *bc, const float *
         int n = (bc->side >> l) + 1;
         /* The bins of the level before are reused: stale memory must not
          * leak into this level's. */
-        REQUIRE(blend_bins_build(&bins, &c, l, n, n, NULL) == PP5_OK);
+        /* two threads: the bricks are described in chunks on both */
+        REQUIRE(blend_bins_build(&bins, &c, l, n, n, NULL, 2) == PP5_OK);
         for (int t = 0; t < bins.tiles_x * bins.tiles_y; t++)
             trace_tile(&c, &bins, t, res);
     }
@@ -115,7 +116,7 @@ static void trace_case(const pyramid_t *p, const brick_case_t *bc, const float *
     REQUIRE(tiles_x <= 64);
     int centre = (tiles_x / 2) * tiles_x + tiles_x / 2;
     active[centre] = 1;
-    REQUIRE(blend_bins_build(&bins, &c, 0, n, n, active) == PP5_OK);
+    REQUIRE(blend_bins_build(&bins, &c, 0, n, n, active, 2) == PP5_OK);
     trace_tile(&c, &bins, centre, res);
     blend_bins_free(&bins);
 }
@@ -238,6 +239,57 @@ TEST(blend_brick_order_is_by_decreasing_bound)
         CHECK_EQ(repeats, 0);
         free(seen);
     }
+    scalar_pyramid_free(&p.scalar);
+    volume_free(&v);
+}
+
+/* The bins do not depend on the thread count: each tile lists the same
+ * bricks, described alike, in the same order; and along each tile's list
+ * the material never rises (the tile's early stop relies on it), across the
+ * chunks the bricks were described in. */
+TEST(blend_bins_are_the_same_for_any_thread_count)
+{
+    volume_t v;
+    pyramid_t p;
+    REQUIRE(phantom_make("shepp-logan", 61, 54, 37, &v) == PP5_OK);
+    pyramid_build(&v, &p);
+    REQUIRE(p.scalar.level[0].brick_count > 2 * BINS_CHUNK);
+    view_params_t vp;
+    view_defaults(&vp);
+    vp.rot_x_deg = 23, vp.rot_y_deg = 37, vp.rot_z_deg = 11;
+    blend_settings_t b;
+    blend_settings_defaults(&b);
+    b.mode = BLEND_MIP;
+    camera_t cam;
+    camera_setup(&cam, &vp, &p.mip, 65, 65);
+    blend_ctx_t c;
+    blend_ctx_init(&c, &p.scalar, &cam, &vp, &b);
+    blend_bins_t one, three;
+    memset(&one, 0, sizeof one);
+    memset(&three, 0, sizeof three);
+    REQUIRE(blend_bins_build(&one, &c, 0, 65, 65, NULL, 1) == PP5_OK);
+    REQUIRE(blend_bins_build(&three, &c, 0, 65, 65, NULL, 3) == PP5_OK);
+    REQUIRE(one.chunks > 2);
+    CHECK_EQ(one.bricks, three.bricks);
+    int tiles = one.tiles_x * one.tiles_y, differ = 0, rises = 0, chunk_crossings = 0;
+    REQUIRE(tiles == three.tiles_x * three.tiles_y);
+    CHECK(memcmp(one.start, three.start, sizeof *one.start * (size_t)(tiles + 1)) == 0);
+    for (int t = 0; t < tiles; t++)
+        for (uint32_t e = one.start[t]; e < one.start[t + 1]; e++) {
+            const blend_brick_t *x = &one.brick[one.entry[e]], *y = &three.brick[three.entry[e]];
+            differ += memcmp(x, y, sizeof *x) != 0;
+            if (e > one.start[t]) {
+                const blend_brick_t *before = &one.brick[one.entry[e - 1]];
+                rises += x->material > before->material;
+                chunk_crossings += one.entry[e] / BINS_CHUNK != one.entry[e - 1] / BINS_CHUNK;
+            }
+        }
+    CHECK_EQ(differ, 0);
+    CHECK_EQ(rises, 0);
+    CHECK(chunk_crossings > 0);   /* the lists do run across chunks */
+    CHECK(one.start[tiles] > 0);
+    blend_bins_free(&one);
+    blend_bins_free(&three);
     scalar_pyramid_free(&p.scalar);
     volume_free(&v);
 }
