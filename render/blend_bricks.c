@@ -358,17 +358,21 @@ static inline bool brick_position(const fast_level_t *lv, const tile_ray_t *r,
                                   const blend_brick_t *b, long k, brick_pos_t *p)
 {
     v4i cv = fast_cell(lv, r->ov, r->g.t0 + (float)k * lv->base, &p->q, &p->fl);
-    if (!v4i_all3((cv >= b->c0) & (cv < b->c1)))
+    v4i in = (cv >= b->c0) & (cv < b->c1);
+    if (!(in[0] & in[1] & in[2]))
         return false;
-    size_t cell = (size_t)cv[2] * lv->slice + (size_t)cv[1] * lv->row + (size_t)cv[0];
-    p->bound = blend_material(&lv->f->window, lv->L->node_max[0][cell]);
+    const scalar_level_t *L = lv->L;
+    size_t cell = ((size_t)cv[2] * (size_t)L->ny + (size_t)cv[1]) * (size_t)L->nx + (size_t)cv[0];
+    p->bound = blend_material(&lv->f->window, L->node_max[0][cell]);
     return true;
 }
 
 /* The reference's sample at the position. */
 static inline float brick_draw(const fast_level_t *lv, const brick_pos_t *p)
 {
-    return blend_material(&lv->f->window, fast_trilerp(lv, p->q, p->fl));
+    float q[3] = {p->q[0], p->q[1], p->q[2]};
+    int fl[3] = {p->fl[0], p->fl[1], p->fl[2]};
+    return blend_material(&lv->f->window, scalar_trilerp(lv->L, q, fl));
 }
 
 /* Ray 2 over one brick that may hold its stop: front to back up to the stop. */

@@ -25,7 +25,6 @@ typedef struct {
     float dv[3], inv_dv[3];   /* direction in level-0 voxel units */
     v4f dv_v;
     v4i top_v;                /* dims - 1 (lane 3 = 0) */
-    size_t row, slice;        /* cells per row and per slice: a cell's index strides */
     float threshold_material[SCALAR_THRESHOLDS];
 } fast_level_t;
 
@@ -85,41 +84,6 @@ static inline v4i fast_cell(const fast_level_t *lv, v4f ov, float t, v4f *qv, v4
     v4i cv = *flv & ~(*flv < 0);
     v4i over = cv > lv->top_v;
     return (cv & ~over) | (lv->top_v & over);
-}
-
-/* scalar_trilerp at level coordinates qv with floors flv (fast_cell's),
- * its seven lerps done four and then two side by side.  The lanes do the
- * scalar expressions' operations on the same floats in the same order, so
- * the sample is scalar_trilerp's to the bit; the edge voxels (clamped
- * indices) go through scalar_trilerp itself.  A sample is the brick-order
- * tracer's most frequent step, and the scalar form spent most of its time
- * moving lanes in and out of vectors. */
-static inline float fast_trilerp(const fast_level_t *lv, v4f qv, v4i flv)
-{
-#if defined(__SSE2__)
-    if (v4i_all3((flv >= 0) & (flv < lv->top_v))) {
-        const float *v = lv->L->value + (size_t)flv[2] * lv->slice + (size_t)flv[1] * lv->row +
-                         (size_t)flv[0];
-        size_t sy = lv->row, sz = lv->slice;
-        /* c0 c1 | c2 c3 and c4 c5 | c6 c7: x-neighbours are adjacent floats */
-        __m128 lo = _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)v),
-                                 (const __m64 *)(v + sy));
-        __m128 hi = _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)(v + sz)),
-                                 (const __m64 *)(v + sz + sy));
-        v4f even = (v4f)_mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));   /* c0 c2 c4 c6 */
-        v4f odd = (v4f)_mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));    /* c1 c3 c5 c7 */
-        v4f w = qv - __builtin_convertvector(flv, v4f);
-        v4f wx = {w[0], w[0], w[0], w[0]}, wy = {w[1], w[1], w[1], w[1]};
-        v4f abde = even + wx * (odd - even);                                /* a b d e */
-        v4f ad = (v4f)_mm_shuffle_ps((__m128)abde, (__m128)abde, _MM_SHUFFLE(2, 0, 2, 0));
-        v4f be = (v4f)_mm_shuffle_ps((__m128)abde, (__m128)abde, _MM_SHUFFLE(3, 1, 3, 1));
-        v4f fg = ad + wy * (be - ad);                                       /* f g f g */
-        return fg[0] + w[2] * (fg[1] - fg[0]);
-    }
-#endif
-    float q[3] = {qv[0], qv[1], qv[2]};
-    int fl[3] = {flv[0], flv[1], flv[2]};
-    return scalar_trilerp(lv->L, q, fl);
 }
 
 /* Where ov + t dv leaves the box of cells [first, last) (INFINITY: never;

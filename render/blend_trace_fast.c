@@ -27,8 +27,6 @@ void fast_level_init(const blend_ctx_t *c, const blend_geom_t *g, fast_level_t *
     lv->dims[0] = lv->L->nx;
     lv->dims[1] = lv->L->ny;
     lv->dims[2] = lv->L->nz;
-    lv->row = (size_t)lv->L->nx;
-    lv->slice = (size_t)lv->L->nx * (size_t)lv->L->ny;
     lv->base = g->base;
     lv->inv_base = 1.0f / g->base;
     lv->scale = (float)(1 << lv->n);
@@ -158,7 +156,9 @@ float fast_sample(const fast_ray_t *r, long k)
     v4f qv;
     v4i flv;
     position_cell(r, k, &qv, &flv);
-    return blend_material(&r->lv->f->window, fast_trilerp(r->lv, qv, flv));
+    float q[3] = {qv[0], qv[1], qv[2]};
+    int fl[3] = {flv[0], flv[1], flv[2]};
+    return blend_material(&r->lv->f->window, scalar_trilerp(r->lv->L, q, fl));
 }
 
 /* Draws positions [k, end) (all of them: see the top), stopping early when

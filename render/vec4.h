@@ -5,7 +5,6 @@
 #ifndef PP5_VEC4_H
 #define PP5_VEC4_H
 
-#include <stdbool.h>
 #include <stdint.h>
 #include <string.h>
 #if defined(__SSE2__)
@@ -46,18 +45,6 @@ static inline v4f v4f_min(v4f a, v4f b)
     return (v4f)_mm_min_ps((__m128)a, (__m128)b);
 #else
     return v4f_select(a < b, a, b);
-#endif
-}
-
-/* True when lanes 0-2 of mask (each all ones or all zeros) are all set:
- * one sign-bit gather, where reading the lanes out one by one takes a
- * shuffle and a move each. */
-static inline bool v4i_all3(v4i mask)
-{
-#if defined(__SSE2__)
-    return (_mm_movemask_ps((__m128)mask) & 7) == 7;
-#else
-    return mask[0] & mask[1] & mask[2];
 #endif
 }
 
