@@ -5,8 +5,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
+#include "huge_alloc.h"
 #include "mip3d_internal.h"
 #include "parallel.h"
 #include "progress.h"
@@ -113,27 +113,20 @@ void mip3d_voxel_spacing(const volume_t *v, float spacing[3], float inv_spacing[
 
 /* Rays step from slice to slice, so a sample's eight voxels lie on up to
  * four 4 KiB pages and a frame touches far more pages than the TLB holds;
- * large levels ask for 2 MiB pages (transparent huge pages, where the host
- * allows them), which measured 4-8% faster casts on CThead.  Freed with
- * free(). */
+ * large levels go on 2 MiB pages where the host offers them (huge_alloc,
+ * which maps them on their own: advice given to malloc's memory outlives
+ * the level and reaches whatever malloc hands out there next).  They
+ * measured 4-8% faster casts on CThead. */
 void *mip3d_alloc_voxels(size_t bytes)
 {
-    const size_t huge = (size_t)2 << 20;
-    if (bytes < huge)
-        return malloc(bytes);
-    void *p = aligned_alloc(huge, (bytes + huge - 1) & ~(huge - 1));
-#ifdef MADV_HUGEPAGE
-    if (p)
-        madvise(p, bytes, MADV_HUGEPAGE);   /* advice only: failure is harmless */
-#endif
-    return p;
+    return huge_alloc(bytes, false);
 }
 
 void mip3d_free(mip3d_t *m)
 {
     for (int i = 0; i < MIP3D_MAX_LEVELS; i++) {
-        free(m->level[i].data);
-        free(m->packed[i].data);
+        huge_free(m->level[i].data, m->level[i].data_bytes);
+        huge_free(m->packed[i].data, m->packed[i].data_bytes);
         for (int a = 0; a < 3; a++)
             free(m->packed[i].offset[a]);
     }
@@ -218,6 +211,7 @@ pp5_status_t mip3d_build(mip3d_t *m, const volume_t *v, const classify_tf_t *tf,
             return pp5_fail(PP5_E_NOMEM, "mip3d: level %d too large", n);
         }
         L->data = mip3d_alloc_voxels(floats);
+        L->data_bytes = floats;
         if (!L->data) {
             mip3d_free(m);
             return pp5_fail(PP5_E_NOMEM, "mip3d: cannot allocate %zu bytes for level %d",

@@ -53,6 +53,7 @@ typedef enum { MIP3D_F32 = 0, MIP3D_U16, MIP3D_U8 } mip3d_format_t;
 typedef struct {
     int nx, ny, nz;
     float *data;          /* F32: nx*ny*nz*stride floats, x fastest */
+    size_t data_bytes;    /* as allocated (huge_alloc) */
 } mip3d_level_t;
 
 /* A level in U16/U8: stride components per voxel (uint16_t/int16_t or
@@ -60,6 +61,7 @@ typedef struct {
  * offset[2][z] (bricked, so the index is a sum of one term per axis). */
 typedef struct {
     void *data;
+    size_t data_bytes;    /* as allocated (huge_alloc) */
     uint32_t *offset[3];
 } mip3d_packed_t;
 

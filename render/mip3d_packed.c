@@ -143,6 +143,7 @@ static pp5_status_t packed_level_alloc(mip3d_t *m, int level)
         voxels > UINT32_MAX)
         return pp5_fail(PP5_E_NOMEM, "mip3d: level %dx%dx%d too large", n[0], n[1], n[2]);
     P->data = mip3d_alloc_voxels(bytes);
+    P->data_bytes = bytes;
     if (P->data)
         memset(P->data, 0, bytes);    /* bricks' padding voxels stay zero */
     size_t step[3] = {(size_t)b * b * b, (size_t)b * b * b * (size_t)bricks[0],

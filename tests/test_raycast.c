@@ -53,7 +53,7 @@ TEST(raycast_trilinear_by_hand)
     memset(&m, 0, sizeof m);
     m.levels = 1;
     m.stride = 4;
-    m.level[0] = (mip3d_level_t){2, 2, 2, data};
+    m.level[0] = (mip3d_level_t){.nx = 2, .ny = 2, .nz = 2, .data = data};
     float out[4];
     mip3d_trilerp(&m, 0, 0.25f, 0.5f, 0.75f, out);
     CHECK_NEAR(out[0], 0.25 + 2 * 0.5 + 4 * 0.75, 1e-6);  /* linear: exact */

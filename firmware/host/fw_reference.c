@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "firmware/common/vr_shade_fixed.h"
+#include "huge_alloc.h"
 
 /* The frame's light and half vector in object space, as the GPs compute
  * them at FRAME_START, and the PP shading constants from them. */
@@ -96,8 +97,8 @@ pp5_status_t fw_reference_init(native_renderer_t *nr, const render_job_t *job, b
     view_shading(mp, job, &v);
     for (int n = 0; n < mp->levels; n++) {
         mip3d_level_t *L = &mp->level[n];
-        size_t count = (size_t)L->nx * L->ny * L->nz;
-        float *out = malloc(count * 4 * sizeof(float));
+        size_t count = (size_t)L->nx * L->ny * L->nz, bytes = count * 4 * sizeof(float);
+        float *out = huge_alloc(bytes, false);   /* a level's data is mip3d's: huge_alloc */
         if (!out)
             return pp5_fail(PP5_E_NOMEM, "reference: out of memory");
         for (size_t i = 0; i < count; i++) {
@@ -107,8 +108,9 @@ pp5_status_t fw_reference_init(native_renderer_t *nr, const render_job_t *job, b
             else
                 voxel_float(o, mp->stride, mp->lighting, &job->shade, &v, out + i * 4);
         }
-        free(L->data);
+        huge_free(L->data, L->data_bytes);
         L->data = out;
+        L->data_bytes = bytes;
     }
     mp->stride = 4;
     mp->lighting = SHADE_DIFFUSE_FIXED_LIGHT;
