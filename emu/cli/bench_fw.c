@@ -109,7 +109,7 @@ static int bench_case(const volume_t *v, const classify_tf_t *tf, const float ro
 {
     fw_case_t c;
     pp5_status_t st = case_init(&c, v, tf, rot, size, lighting);
-    host_time_t first_emu = {0}, first_nat = {0}, e, n;
+    host_time_t first_emu = {0}, first_nat = {0}, e = {0}, n = {0};
     double emu_ms[BENCH_MAX_REPS], nat_ms[BENCH_MAX_REPS], wall_q[BENCH_MAX_REPS],
         cpu_q[BENCH_MAX_REPS];
     if (st == PP5_OK)
@@ -121,6 +121,8 @@ static int bench_case(const volume_t *v, const classify_tf_t *tf, const float ro
         st = emu_first ? emulate_frame(&c, i + 1, &e) : native_frame(&c, i + 1, &n);
         if (st == PP5_OK)
             st = emu_first ? native_frame(&c, i + 1, &n) : emulate_frame(&c, i + 1, &e);
+        if (st != PP5_OK)
+            break;
         emu_ms[i] = e.cpu * 1e3, nat_ms[i] = n.cpu * 1e3;
         wall_q[i] = e.wall / n.wall, cpu_q[i] = e.cpu / n.cpu;
     }
