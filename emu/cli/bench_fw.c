@@ -46,8 +46,10 @@ static pp5_status_t emulate_frame(fw_case_t *c, int f, host_time_t *t)
     double w = clock_s(CLOCK_MONOTONIC), u = clock_s(CLOCK_THREAD_CPUTIME_ID);
     pp5_status_t st = fw_session_frame(&c->s, gaze_x(c, f), 0.5 * (c->rs.height - 1), NULL, &r);
     t->cpu = clock_s(CLOCK_THREAD_CPUTIME_ID) - u, t->wall = clock_s(CLOCK_MONOTONIC) - w;
-    c->emulated_s += r.frame_time_s;
-    c->emulated_frames++;
+    if (st == PP5_OK) {
+        c->emulated_s += r.frame_time_s;
+        c->emulated_frames++;
+    }
     return st;
 }
 
