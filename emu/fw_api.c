@@ -1,7 +1,10 @@
 /* fw_api.c: the firmware API (emu/api/fw_api.h) on top of gp_t: memory, charging, sends, errors. */
 #include "gp.h"
+#include "ring_payload.h"
 
 #include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,29 +67,24 @@ static gp_block_t *take_spare(gp_t *gp, size_t bytes, bool zero)
     return best;
 }
 
-/* fw_alloc, and fw_alloc_copy without zeroing what the copy overwrites. */
-static void *alloc_block(gp_t *gp, size_t bytes, bool zero)
+/* Whether `bytes` more fit local memory (the error is recorded if not). */
+static bool block_fits(gp_t *gp, size_t bytes)
 {
-    if (bytes > gp->mem_capacity_bytes - gp->mem_used_bytes) {
-        gp_record_error(gp, "fw_alloc(%zu bytes) exceeds local memory: %llu of %llu bytes in use "
-                        "(parameter gp.local_mem_bytes)", bytes,
-                        (unsigned long long)gp->mem_used_bytes, (unsigned long long)gp->mem_capacity_bytes);
-        return NULL;
-    }
-    gp_block_t *b = bytes >= SPARE_MIN_BYTES ? take_spare(gp, bytes, zero) : NULL;
-    if (!b) {
-        size_t capacity = bytes ? bytes : 1;
-        b = zero ? calloc(1, sizeof *b + capacity) : malloc(sizeof *b + capacity);
-        if (!b) {
-            gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
-            return NULL;
-        }
-        b->capacity_bytes = capacity;
-    }
+    if (bytes <= gp->mem_capacity_bytes - gp->mem_used_bytes)
+        return true;
+    gp_record_error(gp, "fw_alloc(%zu bytes) exceeds local memory: %llu of %llu bytes in use "
+                    "(parameter gp.local_mem_bytes)", bytes,
+                    (unsigned long long)gp->mem_used_bytes, (unsigned long long)gp->mem_capacity_bytes);
+    return false;
+}
+
+/* Gives host block b an emulated address and makes it a live block of
+ * `bytes`; false (error recorded, b untouched) when no address is left. */
+static bool block_admit(gp_t *gp, gp_block_t *b, size_t bytes)
+{
     if (gp_addr_alloc(&gp->addr, bytes, &b->emu_addr) != PP5_OK) {
         gp_record_error(gp, "fw_alloc(%zu bytes): %s", bytes, pp5_error_text());
-        free(b);
-        return NULL;
+        return false;
     }
     b->magic = GP_BLOCK_MAGIC;
     b->bytes = bytes;
@@ -99,6 +97,29 @@ static void *alloc_block(gp_t *gp, size_t bytes, bool zero)
     gp->mem_used_bytes += bytes;
     if (gp->mem_used_bytes > gp->mem_peak_bytes) {
         gp->mem_peak_bytes = gp->mem_used_bytes;
+    }
+    return true;
+}
+
+/* fw_alloc, and fw_alloc_copy without zeroing what the copy overwrites. */
+static void *alloc_block(gp_t *gp, size_t bytes, bool zero)
+{
+    if (!block_fits(gp, bytes))
+        return NULL;
+    gp_block_t *b = bytes >= SPARE_MIN_BYTES ? take_spare(gp, bytes, zero) : NULL;
+    if (!b) {
+        size_t capacity = bytes ? bytes : 1;
+        b = zero ? calloc(1, sizeof *b + capacity) : malloc(sizeof *b + capacity);
+        if (!b) {
+            gp_record_error(gp, "host out of memory emulating fw_alloc(%zu bytes)", bytes);
+            return NULL;
+        }
+        b->host_base = b;
+        b->capacity_bytes = capacity;
+    }
+    if (!block_admit(gp, b, bytes)) {
+        free(b->host_base);
+        return NULL;
     }
     return b->align;
 }
@@ -114,6 +135,34 @@ void *fw_alloc_copy(gp_t *gp, const void *src, size_t bytes)
     if (p && bytes > 0)
         memcpy(p, src, bytes);
     return p;
+}
+
+/* The block header goes into the ring buffer's headroom, so the payload is
+ * the block's memory as it stands. */
+_Static_assert(offsetof(gp_block_t, align) <= RING_PAYLOAD_HEADROOM,
+               "a GP block header must fit a ring payload's headroom");
+
+void *fw_take_payload(gp_t *gp, const ring_msg_t *m)
+{
+    void *buf = gp->handling_payload;
+    if (!buf || buf != m->payload || m->payload_bytes == 0)
+        return fw_alloc_copy(gp, m->payload, m->payload_bytes);
+    if (!block_fits(gp, m->payload_bytes))
+        return NULL;
+    gp_block_t *b = (gp_block_t *)((char *)buf - offsetof(gp_block_t, align));
+    b->host_base = ring_payload_host_base(buf);
+    b->capacity_bytes = m->payload_bytes;
+    if (!block_admit(gp, b, m->payload_bytes))
+        return NULL;               /* the buffer stays the message's, freed with it */
+    gp->handling_payload = NULL;
+    /* The spare block a copy would have taken goes back to the heap, where
+     * the next payload's allocation finds it: kept, it would only sit
+     * there while the host's memory grew. */
+    gp_block_t *spare = m->payload_bytes >= SPARE_MIN_BYTES ? take_spare(gp, m->payload_bytes, false)
+                                                            : NULL;
+    if (spare)
+        free(spare->host_base);
+    return buf;
 }
 
 void fw_free(gp_t *gp, void *p)
@@ -134,8 +183,10 @@ void fw_free(gp_t *gp, void *p)
         b->next->prev = b->prev;
     }
     gp->mem_used_bytes -= b->bytes;
-    /* Host memory only: the emulated local memory is charged by `bytes` above. */
-    if (b->capacity_bytes >= SPARE_MIN_BYTES &&
+    /* Host memory only: the emulated local memory is charged by `bytes` above.
+     * A kept ring buffer goes back to the heap, where the next payload's
+     * allocation finds it; as a spare it would only make the heap grow. */
+    if (b->host_base == b && b->capacity_bytes >= SPARE_MIN_BYTES &&
         gp->spare_bytes + b->capacity_bytes <= gp->mem_capacity_bytes) {
         b->prev = NULL;
         b->next = gp->spare;
@@ -147,7 +198,7 @@ void fw_free(gp_t *gp, void *p)
         SPARE_POISON(b->align, b->capacity_bytes);
         return;
     }
-    free(b);
+    free(b->host_base);
 }
 
 uint64_t fw_mem_used_bytes(const gp_t *gp) { return gp->mem_used_bytes; }

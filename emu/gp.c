@@ -1,5 +1,6 @@
 /* gp.c: one graphics processor: inbox, run-to-completion callbacks, local clock and memory. */
 #include "gp.h"
+#include "ring_payload.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,7 +30,7 @@ pp5_status_t gp_init(gp_t *gp, unsigned index, const pp5_params_t *p, const fw_m
 static void gp_drop_inbox(gp_t *gp)
 {
     while (gp->inbox_count > 0) {
-        free(gp->inbox[gp->inbox_head].payload_copy);
+        ring_payload_free(gp->inbox[gp->inbox_head].payload_copy);
         gp->inbox_head = (gp->inbox_head + 1) % gp->inbox_cap;
         gp->inbox_count--;
     }
@@ -44,7 +45,7 @@ void gp_free(gp_t *gp)
         gp_block_t *b = lists[i];
         while (b) {
             gp_block_t *next = b->next;
-            free(b);
+            free(b->host_base);
             b = next;
         }
     }
@@ -111,10 +112,12 @@ static pp5_status_t gp_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
         gp->inbox_count--;
         what = ring_msg_kind_name(item.msg.kind);
         gp_charge_cycles(gp, gp->rx_msg_cycles);   /* [U] taking it off the port */
+        gp->handling_payload = item.payload_copy;
         if (gp->prog && gp->prog->on_message) {
             rc = gp->prog->on_message(gp, &item.msg);
         }
-        free(item.payload_copy);
+        ring_payload_free(gp->handling_payload);   /* unless the program kept it */
+        gp->handling_payload = NULL;
     } else {
         return PP5_OK;
     }
@@ -163,14 +166,14 @@ pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf
 {
     gp->msgs_received++;
     if (msg->kind == RING_MSG_HOST_LOAD) {
-        free(payload_buf);        /* gp_host_load copies what it keeps */
+        ring_payload_free(payload_buf);   /* gp_host_load copies what it keeps */
         return gp_host_load(gp, msg, now);
     }
     if (gp->inbox_count == gp->inbox_cap) {
         size_t cap = gp->inbox_cap ? gp->inbox_cap * 2 : 16;
         gp_inbox_item_t *q = malloc(cap * sizeof *q);
         if (!q) {
-            free(payload_buf);
+            ring_payload_free(payload_buf);
             return pp5_fail(PP5_E_NOMEM, "GP %u: out of memory for the inbox", gp->index);
         }
         for (size_t i = 0; i < gp->inbox_count; i++) {
@@ -187,7 +190,7 @@ pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf
     if (payload_buf) {
         it->payload_copy = payload_buf;
     } else if (msg->payload_bytes > 0) {
-        it->payload_copy = malloc(msg->payload_bytes);
+        it->payload_copy = ring_payload_alloc(msg->payload_bytes);
         if (!it->payload_copy) {
             return pp5_fail(PP5_E_NOMEM, "GP %u: out of memory for a message", gp->index);
         }

@@ -42,6 +42,8 @@ typedef void (*gp_trace_fn)(void *ctx, const gp_t *gp, const char *what, pp5_tic
 typedef struct gp_block gp_block_t;
 struct gp_block {
     gp_block_t *next, *prev;
+    void *host_base;              /* what free() takes: the header itself, or the
+                                     ring payload buffer it sits in (fw_take_payload) */
     size_t bytes;                 /* requested (what local memory is charged) */
     size_t capacity_bytes;        /* host bytes after the header (>= bytes when reused) */
     uint64_t emu_addr;            /* emulated local-memory address (gp_addr.h) */
@@ -97,6 +99,8 @@ struct gp {
     bool loaded, started;
 
     gp_inbox_item_t *inbox;       /* ring buffer */
+    void *handling_payload;       /* the payload buffer of the message on_message is
+                                     handling, until fw_take_payload keeps it */
     size_t inbox_head, inbox_count, inbox_cap;
     bool run_scheduled;
 
@@ -118,8 +122,8 @@ pp5_status_t gp_init(gp_t *gp, unsigned index, const pp5_params_t *p, const fw_m
 void gp_free(gp_t *gp);
 void gp_set_program(gp_t *gp, const fw_program_t *prog);
 /* A ring message for this GP arrived at `now`.  The GP takes ownership of
- * `payload_buf` (malloc'd, holding msg->payload's bytes, e.g. from
- * ring_take_payload) instead of copying; NULL: it copies the payload. */
+ * `payload_buf` (from ring_payload_alloc, holding msg->payload's bytes, e.g.
+ * from ring_take_payload) instead of copying; NULL: it copies the payload. */
 pp5_status_t gp_deliver_owned(gp_t *gp, const ring_msg_t *msg, void *payload_buf, pp5_tick_t now);
 /* Charge raw cycles (used by the firmware API for sends). */
 void gp_charge_cycles(gp_t *gp, uint64_t cycles);

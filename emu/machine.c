@@ -10,11 +10,13 @@ static pp5_status_t machine_deliver(void *ctx, const ring_msg_t *msg, pp5_tick_t
     machine_t *m = ctx;
     switch (msg->dst.type) {
     case RING_NODE_GP:
-        /* The GP keeps the ring's payload buffer instead of copying it (host speed). */
+        /* GPs and renderers keep the ring's payload buffer instead of
+         * copying it (host speed). */
         return gp_deliver_owned(&m->gp[msg->dst.index], msg,
                                 msg->kind == RING_MSG_HOST_LOAD ? NULL : ring_take_payload(&m->ring),
                                 now);
-    case RING_NODE_RENDERER: return rnode_deliver(&m->rn[msg->dst.index], msg, now);
+    case RING_NODE_RENDERER:
+        return rnode_deliver(&m->rn[msg->dst.index], msg, ring_take_payload(&m->ring), now);
     case RING_NODE_FB: return fb_deliver(&m->fb, msg, now);
     default: return host_deliver(&m->host, msg, now);
     }
@@ -53,8 +55,8 @@ pp5_status_t machine_position(const machine_t *m, ring_addr_t a, unsigned *pos)
                     a.type < 4 ? names[a.type] : "of unknown type", a.index, m->n_gp, m->n_rn);
 }
 
-/* Sends msg, copying its payload, or adopting it when `owned` (malloc'd,
- * msg->payload) is given. */
+/* Sends msg, copying its payload, or adopting it when `owned`
+ * (ring_payload_alloc'd, msg->payload) is given. */
 static pp5_status_t send_on_ring(machine_t *m, const ring_msg_t *msg, void *owned, pp5_tick_t t)
 {
     unsigned s, d;
@@ -63,7 +65,7 @@ static pp5_status_t send_on_ring(machine_t *m, const ring_msg_t *msg, void *owne
         st = machine_position(m, msg->dst, &d);
     }
     if (st != PP5_OK) {
-        free(owned);
+        ring_payload_free(owned);
         return st;
     }
     return owned ? ring_send_owned(&m->ring, msg, owned, s, d, t) : ring_send(&m->ring, msg, s, d, t);

@@ -1,5 +1,6 @@
 /* renderer_node.c: renderer ring port: command FIFO, functional step (maybe on a worker), cycle charging, replies. */
 #include "renderer_node.h"
+#include "ring_payload.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,8 +32,8 @@ pp5_status_t rnode_init(renderer_node_t *n, unsigned index, const pp5_params_t *
 static void rnode_item_free(rnode_item_t *it)
 {
     if (it) {
-        free(it->payload_copy);
-        free(it->reply_payload);
+        ring_payload_free(it->payload_copy);
+        ring_payload_free(it->reply_payload);
         free(it);
     }
 }
@@ -81,7 +82,7 @@ static pp5_status_t item_payload(rnode_item_t *it, const renderer_node_t *n, siz
 static pp5_status_t item_reply(rnode_item_t *it, const renderer_node_t *n, uint32_t reply_to, uint32_t kind,
                                uint32_t cls, const void *data, size_t bytes)
 {
-    it->reply_payload = malloc(bytes);
+    it->reply_payload = ring_payload_alloc(bytes);
     if (!it->reply_payload) {
         snprintf(it->err, sizeof it->err, "renderer %u: out of memory for a %zu-byte reply", n->index, bytes);
         return PP5_E_NOMEM;
@@ -418,15 +419,19 @@ static pp5_status_t rnode_run_event(void *ctx, uint64_t arg, pp5_tick_t now)
     return st;
 }
 
-pp5_status_t rnode_deliver(renderer_node_t *n, const ring_msg_t *msg, pp5_tick_t now)
+pp5_status_t rnode_deliver(renderer_node_t *n, const ring_msg_t *msg, void *payload_buf,
+                           pp5_tick_t now)
 {
     rnode_item_t *it = calloc(1, sizeof *it);
     if (!it) {
+        ring_payload_free(payload_buf);
         return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for a command", n->index);
     }
     it->msg = *msg;
-    if (msg->payload_bytes > 0) {
-        it->payload_copy = malloc(msg->payload_bytes);
+    if (payload_buf) {
+        it->payload_copy = payload_buf;
+    } else if (msg->payload_bytes > 0) {
+        it->payload_copy = ring_payload_alloc(msg->payload_bytes);
         if (!it->payload_copy) {
             free(it);
             return pp5_fail(PP5_E_NOMEM, "renderer %u: out of memory for a message", n->index);

@@ -39,8 +39,8 @@
 #include "ring_msg.h"
 #include "pp5_sched.h"
 
-/* Sends msg at t; `owned` (NULL, or msg->payload from malloc) passes the
- * payload buffer to the receiver, which frees it. */
+/* Sends msg at t; `owned` (NULL, or msg->payload from ring_payload_alloc)
+ * passes the payload buffer on to the ring, which frees it. */
 typedef pp5_status_t (*rnode_send_fn)(void *ctx, const ring_msg_t *msg, void *owned, pp5_tick_t t);
 typedef void (*rnode_trace_fn)(void *ctx, unsigned index, const char *what, pp5_tick_t start,
                                pp5_tick_t end);
@@ -88,7 +88,10 @@ typedef struct {
 pp5_status_t rnode_init(renderer_node_t *n, unsigned index, const pp5_params_t *p, sched_t *sched,
                         rnode_send_fn send, void *send_ctx);
 void rnode_free(renderer_node_t *n);
-pp5_status_t rnode_deliver(renderer_node_t *n, const ring_msg_t *msg, pp5_tick_t now);
+/* Queues a delivered command.  payload_buf: the ring's buffer of
+ * msg->payload (ring_take_payload), kept instead of copied; NULL: copied. */
+pp5_status_t rnode_deliver(renderer_node_t *n, const ring_msg_t *msg, void *payload_buf,
+                           pp5_tick_t now);
 bool rnode_busy(const renderer_node_t *n, pp5_tick_t now);
 
 /* Worker pool for the functional steps of several renderer nodes. */

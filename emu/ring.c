@@ -34,7 +34,7 @@ pp5_status_t ring_init(ring_t *r, const ring_config_t *cfg, sched_t *sched,
 void ring_free(ring_t *r)
 {
     for (size_t i = 0; i < r->n_flights; i++) {
-        free(r->flights[i].payload_copy);
+        ring_payload_free(r->flights[i].payload_copy);
     }
     free(r->flights);
     free(r->free_slots);
@@ -87,7 +87,7 @@ static pp5_status_t ring_arrive(void *ctx, uint64_t slot, pp5_tick_t now)
     }
     r->arriving_payload = payload;
     pp5_status_t st = r->deliver ? r->deliver(r->deliver_ctx, &msg, now) : PP5_OK;
-    free(r->arriving_payload);             /* unless the receiver took it */
+    ring_payload_free(r->arriving_payload);   /* unless the receiver took it */
     r->arriving_payload = NULL;
     r->flights[slot].payload_copy = NULL;
     r->flights[slot].in_use = 0;
@@ -207,7 +207,7 @@ pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsig
 {
     void *copy = NULL;
     if (msg->payload_bytes > 0) {
-        if (!(copy = malloc(msg->payload_bytes)))
+        if (!(copy = ring_payload_alloc(msg->payload_bytes)))
             return pp5_fail(PP5_E_NOMEM, "ring: out of memory copying a %zu-byte payload",
                             msg->payload_bytes);
         memcpy(copy, msg->payload, msg->payload_bytes);
@@ -226,7 +226,7 @@ pp5_status_t ring_send_owned(ring_t *r, const ring_msg_t *msg, void *owned, unsi
         size_t cap = p->cap ? p->cap * 2 : 16;
         uint32_t *q = malloc(cap * sizeof *q);
         if (!q) {
-            free(owned);
+            ring_payload_free(owned);
             return pp5_fail(PP5_E_NOMEM, "ring: out of memory for a node FIFO");
         }
         for (size_t i = 0; i < p->count; i++) {
@@ -248,14 +248,14 @@ pp5_status_t ring_send_owned(ring_t *r, const ring_msg_t *msg, void *owned, unsi
     uint32_t slot = 0;
     pp5_status_t st = ring_take_slot(r, &slot);
     if (st != PP5_OK) {
-        free(owned);
+        ring_payload_free(owned);
         return st;
     }
     ring_flight_t *f = &r->flights[slot];
     f->msg = *msg;
     f->payload_copy = msg->payload_bytes > 0 ? owned : NULL;
     if (msg->payload_bytes == 0)
-        free(owned);
+        ring_payload_free(owned);
     f->msg.payload = f->payload_copy;
     f->in_use = 1;
     f->src_pos = src_pos;

@@ -35,6 +35,7 @@
 #include <stdint.h>
 #include "pp5_time.h"
 #include "ring_msg.h"
+#include "ring_payload.h"
 #include "pp5_sched.h"
 
 /* Arbitration runs after deliveries and before unit work at one instant. */
@@ -107,9 +108,11 @@ typedef struct {
 pp5_status_t ring_init(ring_t *r, const ring_config_t *cfg, sched_t *sched,
                        ring_deliver_fn deliver, void *deliver_ctx);
 void ring_free(ring_t *r);
+
 /* Only inside the deliver callback: hands the delivered message's payload
- * buffer (the ring's own copy, msg->payload) to the caller, who must free()
- * it; NULL when there is none or it was taken.  Saves the receiver a copy. */
+ * buffer (the ring's own, msg->payload) to the caller, who must give it
+ * back to ring_payload_free; NULL when there is none or it was taken.
+ * Saves the receiver a copy. */
 void *ring_take_payload(ring_t *r);
 
 /* Wire bytes of a message (header + payload). */
@@ -124,8 +127,8 @@ unsigned ring_hops(const ring_t *r, unsigned src_pos, unsigned dst_pos);
 pp5_status_t ring_send(ring_t *r, const ring_msg_t *msg, unsigned src_pos, unsigned dst_pos,
                        pp5_tick_t t);
 /* ring_send for a payload the sender gives away: `owned` is msg->payload,
- * from malloc, and the ring keeps it instead of copying it (freed with the
- * flight, or here on failure).  Host speed only: nothing else differs. */
+ * from ring_payload_alloc, and the ring keeps it instead of copying it
+ * (freed with the flight, or here on failure).  Host speed only: nothing else differs. */
 pp5_status_t ring_send_owned(ring_t *r, const ring_msg_t *msg, void *owned, unsigned src_pos,
                              unsigned dst_pos, pp5_tick_t t);
 

@@ -1,6 +1,7 @@
 /* test_gp_alloc.c: GP host-memory handling: fw_alloc / fw_free reuse of freed large blocks (memory
  * comes back zeroed, fw_alloc_copy's holds its source, local-memory accounting is by requested bytes, the
- * capacity limit is unchanged) and payloads the GP keeps from the ring. */
+ * capacity limit is unchanged), payloads the GP keeps from the ring, and fw_take_payload against
+ * fw_alloc_copy. */
 #include <stdint.h>
 #include <string.h>
 
@@ -158,4 +159,89 @@ TEST(gp_alloc_delivered_payloads_intact)
     CHECK_EQ(why, SCHED_STOP_IDLE);
     CHECK_EQ(g_xfer_received, XFER_MSGS);
     machine_free(&m);
+}
+
+/* fw_take_payload keeps the ring's buffer as a block of local memory.  It
+ * must be the block fw_alloc_copy would give: the same bytes, the same
+ * local-memory use and the same data-cache outcome (emulated addresses,
+ * not host ones), run once taking and once copying. */
+static bool g_keep_take;
+static fw_ops_t g_keep_ops;
+static uint64_t g_keep_peak;
+
+static fw_status_t keep_message(gp_t *gp, const ring_msg_t *msg)
+{
+    if (msg->kind != RING_MSG_GP_USER)
+        return FW_OK;
+    unsigned k = msg->args[0];
+    uint64_t before = fw_mem_used_bytes(gp);
+    const uint8_t *block = g_keep_take ? fw_take_payload(gp, msg)
+                                       : fw_alloc_copy(gp, msg->payload, msg->payload_bytes);
+    g_xfer_received++;
+    if (!EXPECT(block != NULL, "message %u: a block", k))
+        return FW_OK;
+    EXPECT(fw_mem_used_bytes(gp) == before + msg->payload_bytes,
+           "message %u: %llu bytes more in use, want %zu", k,
+           (unsigned long long)(fw_mem_used_bytes(gp) - before), msg->payload_bytes);
+    size_t i = 0;
+    while (i < msg->payload_bytes && block[i] == xfer_byte(k, i))
+        i++;
+    EXPECT(i == msg->payload_bytes, "message %u: byte %zu of the block differs", k, i);
+    if (fw_mem_used_bytes(gp) > g_keep_peak)
+        g_keep_peak = fw_mem_used_bytes(gp);
+    /* Taking twice copies the second time, from the block itself. */
+    const uint8_t *again = g_keep_take ? fw_take_payload(gp, msg) : NULL;
+    if (g_keep_take)
+        EXPECT(again && again != block && memcmp(again, block, msg->payload_bytes) == 0,
+               "message %u: a second take is a copy of the same bytes", k);
+    for (size_t off = 0; off + 4 <= msg->payload_bytes; off += 4096 + 4 * k)
+        fw_dcache_access(gp, &g_keep_ops, block, off, 4, 0);
+    fw_free(gp, (void *)again);
+    fw_charge(gp, &g_keep_ops);
+    /* every other block lives on, so that later ones get other addresses */
+    if (k % 2)
+        fw_free(gp, (void *)block);
+    return FW_OK;
+}
+
+static const fw_program_t keep_prog = {"keep", 1024, xfer_start, keep_message};
+
+static void run_keep(bool take, fw_ops_t *ops, uint64_t *gp1_cycles, uint64_t *peak)
+{
+    pp5_params_t p;
+    pp5_params_default(&p);
+    p.n_gp = 2;
+    p.n_renderers = 1;
+    p.fb_width = 128;
+    p.fb_height = 128;
+    machine_t m;
+    REQUIRE(machine_init(&m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 1, &keep_prog, NULL, 0) == PP5_OK);
+    REQUIRE(machine_load_program(&m, 0, &keep_prog, NULL, 0) == PP5_OK);
+    g_keep_take = take;
+    g_xfer_received = 0;
+    memset(&g_keep_ops, 0, sizeof g_keep_ops);
+    g_keep_peak = 0;
+    sched_stop_t why;
+    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
+    CHECK_EQ(why, SCHED_STOP_IDLE);
+    CHECK_EQ(g_xfer_received, XFER_MSGS);
+    *ops = g_keep_ops;
+    *gp1_cycles = m.gp[1].local_ps / m.gp[1].period_ps;
+    *peak = g_keep_peak;
+    machine_free(&m);
+}
+
+TEST(gp_alloc_taken_payload_is_the_copy_it_replaces)
+{
+    fw_ops_t taken, copied;
+    uint64_t cyc_taken, cyc_copied, peak_taken, peak_copied;
+    run_keep(true, &taken, &cyc_taken, &peak_taken);
+    run_keep(false, &copied, &cyc_copied, &peak_copied);
+    CHECK(copied.dcache_misses > 0);
+    CHECK_EQ(taken.dcache_hits, copied.dcache_hits);
+    CHECK_EQ(taken.dcache_misses, copied.dcache_misses);
+    CHECK_EQ(taken.dcache_writebacks, copied.dcache_writebacks);
+    CHECK_EQ(cyc_taken, cyc_copied);
+    CHECK_EQ(peak_taken, peak_copied);
 }

@@ -98,6 +98,12 @@ void *fw_alloc(gp_t *gp, size_t bytes);
 /* fw_alloc filled with a copy of `bytes` at src instead of zeros (host
  * speed: a received unit or a built stream is not zeroed first). */
 void *fw_alloc_copy(gp_t *gp, const void *src, size_t bytes);
+/* The payload of the message on_message is handling (its msg argument) as
+ * a block of local memory: what fw_alloc_copy(gp, msg->payload,
+ * msg->payload_bytes) returns, charged, addressed and freed the same.  The
+ * host keeps the ring's buffer instead of copying it when it can (host
+ * speed only); msg->payload is then the block itself, valid until fw_free. */
+void *fw_take_payload(gp_t *gp, const ring_msg_t *msg);
 void fw_free(gp_t *gp, void *p);
 uint64_t fw_mem_used_bytes(const gp_t *gp);
 

@@ -302,7 +302,7 @@ fw_status_t vr_fetch_on_data(gp_t *gp, vr_state_t *s, const ring_msg_t *m)
         return fw_fail(gp, "vr: unexpected data message (tag %u, %zu bytes)", tag, m->payload_bytes);
     uint64_t c0 = fw_cycles(gp);
     size_t bytes = vr_unit_bytes(s, id);
-    uint32_t *dst = fw_alloc_copy(gp, m->payload, bytes);
+    uint32_t *dst = fw_take_payload(gp, m);
     if (!dst)
         return fw_fail(gp, "vr: GP %d local memory (%llu bytes) cannot hold unit %d of this "
                            "frame's footprint: partition does not fit",
