@@ -243,6 +243,54 @@ TEST(fw_division_sample_planning_lowers_gp_imbalance)
     volume_free(&f.v);
 }
 
+/* The samples plan keeps its coarse marches while the view stays: a
+ * session's bands, as the gaze moves and after the view changes, are the
+ * bands a fresh session plans for the same view and gaze. */
+TEST(fw_division_sample_plan_follows_the_view)
+{
+    div_fixture_t f;
+    div_fixture_sized(&f, SHADE_DIFFUSE_FIXED_LIGHT, 160, 8, 96, 80);
+    fw_options_t o;
+    fw_options_default(&o);
+    o.plan = FW_PLAN_SAMPLES;
+    fw_session_t s;
+    REQUIRE(fw_session_init(&s, &f.job, &f.p, &o) == PP5_OK);
+    render_job_t job = f.job;
+    const double gazes[3][2] = {{50.0, 60.0}, {120.0, 20.0}, {50.0, 60.0}};
+    double first_view[128];
+    REQUIRE(s.n_units <= 128);
+    for (int step = 0; step < 3; step++) {
+        if (step == 2) {
+            job.settings.view.rot_x_deg += 60.0f;
+            job.settings.view.rot_y_deg += 35.0f;
+            REQUIRE(fw_session_set_view(&s, &job.settings.view) == PP5_OK);
+        }
+        fw_frame_result_t r;
+        REQUIRE(fw_session_frame(&s, gazes[step][0], gazes[step][1], NULL, &r) == PP5_OK);
+        fw_session_t fresh;
+        REQUIRE(fw_session_init(&fresh, &job, &f.p, &o) == PP5_OK);
+        REQUIRE(fw_session_frame(&fresh, gazes[step][0], gazes[step][1], NULL, &r) == PP5_OK);
+        int n = (int)f.p.n_gp + 1, same = 1;
+        for (int g = 0; g < n; g++)
+            same &= s.last_bands[g] == fresh.last_bands[g];
+        CHECK_MSG(same, "step %d: the session's bands differ from a fresh session's", step);
+        for (int u = 0; u < s.n_units; u++)
+            CHECK_MSG(s.unit_weight[u] == fresh.unit_weight[u], "step %d unit %d: weight %.17g, "
+                      "fresh %.17g", step, u, s.unit_weight[u], fresh.unit_weight[u]);
+        if (step == 0)
+            memcpy(first_view, s.unit_weight, (size_t)s.n_units * sizeof *first_view);
+        if (step == 2) {
+            int moved = 0;
+            for (int u = 0; u < s.n_units; u++)
+                moved |= s.unit_weight[u] != first_view[u];
+            CHECK_MSG(moved, "the new view estimated the same work as the old one at this gaze");
+        }
+        fw_session_free(&fresh);
+    }
+    fw_session_free(&s);
+    volume_free(&f.v);
+}
+
 /* `pp5 sweep` takes the division as an axis: one CSV row per division. */
 TEST(fw_division_sweep_axis_writes_one_row_per_division)
 {

@@ -235,12 +235,54 @@ static void ray_work(const fw_session_t *s, const camera_t *cam, float px, float
     }
 }
 
-double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int u, double gx, double gy)
+/* Columns of the 4x4-subsampled estimate grid (fw_estimate_unit). */
+static int estimate_columns(const fw_session_t *s)
+{
+    return s->rs.width > 2 ? (s->rs.width - 2 + 3) / 4 : 0;
+}
+
+void fw_estimate_forget(fw_session_t *s)
+{
+    if (s->work_known)
+        memset(s->work_known, 0, s->work_entries);
+}
+
+/* ray_work of column `col` of band unit u at 2D level l, from the memo when
+ * this view already marched it (no memo when the host lacks the memory). */
+static void unit_ray_work(fw_session_t *s, const camera_t *cam, int u, int col, int l, float px,
+                          float py, double *samples, double *skips)
+{
+    if (!s->work_known) {
+        size_t n = (size_t)s->n_units * (size_t)estimate_columns(s) * (size_t)s->cfg.levels2d;
+        s->work_memo = malloc(2 * n * sizeof *s->work_memo);
+        s->work_known = calloc(n, 1);
+        if (!s->work_memo || !s->work_known) {
+            free(s->work_memo);
+            free(s->work_known);
+            s->work_memo = NULL, s->work_known = NULL;
+            ray_work(s, cam, px, py, l, samples, skips);
+            return;
+        }
+        s->work_entries = n;
+    }
+    size_t e = ((size_t)u * (size_t)estimate_columns(s) + (size_t)col) * (size_t)s->cfg.levels2d +
+               (size_t)l;
+    if (!s->work_known[e]) {
+        double a = 0, b = 0;
+        ray_work(s, cam, px, py, l, &a, &b);
+        s->work_memo[2 * e] = a, s->work_memo[2 * e + 1] = b;
+        s->work_known[e] = 1;
+    }
+    *samples += s->work_memo[2 * e];
+    *skips += s->work_memo[2 * e + 1];
+}
+
+double fw_estimate_unit(fw_session_t *s, const camera_t *cam, int u, double gx, double gy)
 {
     int unit = 1 << (s->cfg.levels2d - 1), width = s->rs.width;
     bool gaze = s->rs.mode == RENDER_MODE_GAZE;
     double y = u * unit + 0.5 * unit, work = 0;
-    for (int x = 2; x < width; x += 4) {
+    for (int x = 2, col = 0; x < width; x += 4, col++) {
         float level = 0.0f;
         if (gaze) {
             double dx = x - gx, dy = y - gy;
@@ -253,7 +295,7 @@ double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int u, doubl
             if (l > m && !(level > (float)m))
                 break;
             double rays = 4.0 * unit * pow(0.25, l), samples = 0, skips = 0;
-            ray_work(s, cam, (float)x + 0.5f, (float)y, l, &samples, &skips);
+            unit_ray_work(s, cam, u, col, l, (float)x + 0.5f, (float)y, &samples, &skips);
             work += rays * (s->cycles_ray + s->cycles_sample * samples + s->cycles_skip * skips);
         }
     }

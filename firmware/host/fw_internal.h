@@ -27,8 +27,10 @@ void fw_bands_learn(fw_session_t *s, const stats_t *frame);
  * the acuity model's rays times the samples each draws, marched through the
  * volume's opacity on a coarse grid. */
 pp5_status_t fw_estimate_init(fw_session_t *s, const render_job_t *job);
-double fw_estimate_unit(const fw_session_t *s, const camera_t *cam, int unit_index, double gx,
+double fw_estimate_unit(fw_session_t *s, const camera_t *cam, int unit_index, double gx,
                         double gy);
+/* Drops what fw_estimate_unit kept of the view's rays (the view changed). */
+void fw_estimate_forget(fw_session_t *s);
 
 /* PP5_E_FIRMWARE, naming them, when the frame went idle with GPs that never
  * finished it (a firmware that waits for a message nobody sends): its image

@@ -328,6 +328,8 @@ void fw_session_free(fw_session_t *s)
     free(s->coarse_alpha);
     for (int k = 0; k < 8; k++)
         free(s->coarse_occ[k]);
+    free(s->work_memo);
+    free(s->work_known);
     memset(s, 0, sizeof *s);
 }
 
@@ -467,6 +469,7 @@ pp5_status_t fw_session_set_view(fw_session_t *s, const view_params_t *view)
         return pp5_fail(PP5_E_CONFIG, "machine renderer: the projection is fixed per sequence "
                         "(the GPs' octree grids)");
     s->rs.view = *view;
+    fw_estimate_forget(s);
     return PP5_OK;
 }
 

@@ -134,6 +134,13 @@ typedef struct {
     uint8_t *coarse_occ[8];           /* its occupancy pyramid (fw_estimate.c) */
     int coarse_nx, coarse_ny, coarse_nz, coarse_f;
     double cycles_ray, cycles_sample, cycles_skip, cycles_pixel;
+    /* The coarse march's samples and skips per (band unit, column, 2D
+     * level), two doubles each, kept while the view stays: a moving gaze
+     * picks other levels of the same rays (host speed only: the same
+     * doubles as a new march).  work_known: which entries hold one. */
+    double *work_memo;
+    uint8_t *work_known;
+    size_t work_entries;
 } fw_session_t;
 
 pp5_status_t fw_session_init(fw_session_t *s, const render_job_t *job, const pp5_params_t *p,
