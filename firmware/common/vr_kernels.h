@@ -325,10 +325,22 @@ static inline bool vr_clip_box(const float o[3], const float d[3], const float h
     return a <= b;
 }
 
-/* mip3d_level_coord (render/mip3d.h) */
+/* 2^-n for 0 <= n < 127, built from its bits (exact). */
+static inline float vr_pow2_neg(int n)
+{
+    union {
+        uint32_t u;
+        float f;
+    } v = {(uint32_t)(127 - n) << 23};
+    return v.f;
+}
+
+/* mip3d_level_coord (render/mip3d.h), which divides by 2^n.  Multiplying
+ * by 2^-n gives the same float: both round the same real number, since
+ * 2^-n is exact (host speed only: a multiply instead of a divide). */
 static inline float vr_level_coord(float p, int n)
 {
-    return (p + 0.5f) / (float)(1 << n) - 0.5f;
+    return (p + 0.5f) * vr_pow2_neg(n) - 0.5f;
 }
 
 #endif
