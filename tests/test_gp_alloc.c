@@ -141,7 +141,9 @@ static fw_status_t xfer_message(gp_t *gp, const ring_msg_t *msg)
 
 static const fw_program_t xfer_prog = {"xfer", 1024, xfer_start, xfer_message};
 
-TEST(gp_alloc_delivered_payloads_intact)
+/* Runs `prog` on both GPs of a small machine (GP 0 sends, GP 1 receives)
+ * through setup; the caller frees m. */
+static void run_two_gps(machine_t *m, const fw_program_t *prog)
 {
     pp5_params_t p;
     pp5_params_default(&p);
@@ -149,15 +151,20 @@ TEST(gp_alloc_delivered_payloads_intact)
     p.n_renderers = 1;
     p.fb_width = 128;
     p.fb_height = 128;
-    machine_t m;
-    REQUIRE(machine_init(&m, &p) == PP5_OK);
-    REQUIRE(machine_load_program(&m, 1, &xfer_prog, NULL, 0) == PP5_OK);
-    REQUIRE(machine_load_program(&m, 0, &xfer_prog, NULL, 0) == PP5_OK);
+    REQUIRE(machine_init(m, &p) == PP5_OK);
+    REQUIRE(machine_load_program(m, 1, prog, NULL, 0) == PP5_OK);
+    REQUIRE(machine_load_program(m, 0, prog, NULL, 0) == PP5_OK);
     g_xfer_received = 0;
     sched_stop_t why;
-    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
+    CHECK_EQ(machine_run_setup(m, &why), PP5_OK);
     CHECK_EQ(why, SCHED_STOP_IDLE);
     CHECK_EQ(g_xfer_received, XFER_MSGS);
+}
+
+TEST(gp_alloc_delivered_payloads_intact)
+{
+    machine_t m;
+    run_two_gps(&m, &xfer_prog);
     machine_free(&m);
 }
 
@@ -208,24 +215,11 @@ static const fw_program_t keep_prog = {"keep", 1024, xfer_start, keep_message};
 
 static void run_keep(bool take, fw_ops_t *ops, uint64_t *gp1_cycles, uint64_t *peak)
 {
-    pp5_params_t p;
-    pp5_params_default(&p);
-    p.n_gp = 2;
-    p.n_renderers = 1;
-    p.fb_width = 128;
-    p.fb_height = 128;
-    machine_t m;
-    REQUIRE(machine_init(&m, &p) == PP5_OK);
-    REQUIRE(machine_load_program(&m, 1, &keep_prog, NULL, 0) == PP5_OK);
-    REQUIRE(machine_load_program(&m, 0, &keep_prog, NULL, 0) == PP5_OK);
     g_keep_take = take;
-    g_xfer_received = 0;
     memset(&g_keep_ops, 0, sizeof g_keep_ops);
     g_keep_peak = 0;
-    sched_stop_t why;
-    CHECK_EQ(machine_run_setup(&m, &why), PP5_OK);
-    CHECK_EQ(why, SCHED_STOP_IDLE);
-    CHECK_EQ(g_xfer_received, XFER_MSGS);
+    machine_t m;
+    run_two_gps(&m, &keep_prog);
     *ops = g_keep_ops;
     *gp1_cycles = m.gp[1].local_ps / m.gp[1].period_ps;
     *peak = g_keep_peak;
