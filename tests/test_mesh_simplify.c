@@ -219,8 +219,8 @@ static void check_extract_equals_direct(const mesh_t *in, const char *name)
     for (int i = 0; i < 3; i++) {
         mesh_record_t rec;
         REQUIRE(run(in, METHODS[i], 0, NULL, &rec) == PP5_OK);
-        int targets[2] = {in->n_faces / 2, in->n_faces / 10};
-        for (int k = 0; k < 2; k++) {
+        int targets[3] = {in->n_faces / 2, in->n_faces / 10, 8};
+        for (int k = 0; k < 3; k++) {
             mesh_t direct, level;
             REQUIRE(run(in, METHODS[i], targets[k], &direct, NULL) == PP5_OK);
             REQUIRE(mesh_record_extract(&rec, mesh_record_level_for_faces(&rec, targets[k]),
@@ -254,6 +254,38 @@ TEST(mesh_extracting_a_level_equals_simplifying_straight_to_it)
     REQUIRE(mesh_load(path, &cow) == PP5_OK);
     check_extract_equals_direct(&cow, "cow");
     mesh_free(&cow);
+}
+
+/* Every level through the checkpoints equals the same level climbed from
+ * the input's own corners (a record with its checkpoints hidden), vertex
+ * for vertex and face for face. */
+TEST(mesh_record_checkpoints_change_no_level)
+{
+    mesh_t t;
+    REQUIRE(mesh_gen_torus(24, 12, 1.0, 0.4, &t) == PP5_OK);
+    for (int i = 0; i < 3; i++) {
+        mesh_record_t rec;
+        REQUIRE(run(&t, METHODS[i], 0, NULL, &rec) == PP5_OK);
+        CHECK_MSG(rec.n_checkpoints >= 4, "%s: %d checkpoints for %d levels",
+                  mesh_method_name(METHODS[i]), rec.n_checkpoints, rec.n_levels);
+        int n_ck = rec.n_checkpoints, differ = 0;
+        for (int l = 0; l < rec.n_levels; l++) {
+            mesh_t a, b;
+            rec.n_checkpoints = n_ck;
+            REQUIRE(mesh_record_extract(&rec, l, &a) == PP5_OK);
+            rec.n_checkpoints = 0;
+            REQUIRE(mesh_record_extract(&rec, l, &b) == PP5_OK);
+            differ += a.n_faces != b.n_faces || a.n_vertices != b.n_vertices ||
+                      memcmp(a.tri, b.tri, sizeof *a.tri * 3 * (size_t)a.n_faces) != 0 ||
+                      memcmp(a.pos, b.pos, sizeof *a.pos * 3 * (size_t)a.n_vertices) != 0;
+            mesh_free(&a), mesh_free(&b);
+        }
+        rec.n_checkpoints = n_ck;
+        CHECK_MSG(differ == 0, "%s: %d of %d levels differ", mesh_method_name(METHODS[i]),
+                  differ, rec.n_levels);
+        mesh_record_free(&rec);
+    }
+    mesh_free(&t);
 }
 
 /* Seed 003 with its lazy bookkeeping (edges wait under a lower bound or an

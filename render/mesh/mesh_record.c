@@ -12,11 +12,14 @@ void mesh_record_free(mesh_record_t *r)
     free(r->pos), free(r->parent), free(r->death);
     free(r->tri), free(r->face_death), free(r->face_src);
     free(r->level_step), free(r->level_faces), free(r->level_vertices);
-    free(r->scratch_map), free(r->scratch_mstamp);
+    free(r->scratch_map), free(r->scratch_mstamp), free(r->ck_tri);
     memset(r, 0, sizeof *r);
 }
 
-static pp5_status_t record_alloc_scratch(mesh_record_t *r)
+static pp5_status_t record_checkpoints(mesh_record_t *r);
+
+/* What extraction needs besides the record: its scratch and checkpoints. */
+static pp5_status_t record_prepare(mesh_record_t *r)
 {
     size_t n = (size_t)r->n_vertices + 1;
     r->scratch_map = malloc(sizeof *r->scratch_map * n);
@@ -24,7 +27,7 @@ static pp5_status_t record_alloc_scratch(mesh_record_t *r)
     r->stamp = 0;
     if (!r->scratch_map || !r->scratch_mstamp)
         return pp5_fail(PP5_E_NOMEM, "record: out of memory");
-    return PP5_OK;
+    return record_checkpoints(r);
 }
 
 typedef struct {
@@ -71,7 +74,7 @@ pp5_status_t sw_take_record(sw_t *w, const mesh_t *in, mesh_record_t *r)
         r->face_src[i] = f;
     }
     free(keys);
-    pp5_status_t st = record_alloc_scratch(r);
+    pp5_status_t st = record_prepare(r);
     if (st != PP5_OK)
         mesh_record_free(r);
     return st;
@@ -122,6 +125,50 @@ static void record_reps(const mesh_record_t *r, const int32_t *v, int n, int32_t
     }
 }
 
+/* A coarse level's chains are long: at 4 faces of the bunny, each corner
+ * climbs through dozens of merges.  A checkpoint holds the corners already
+ * climbed to its step, so a level starts from the last checkpoint at or
+ * before it, where chains are a few links long.  Checkpoint 0 is the
+ * input's corners themselves; since each later one has at most half the
+ * faces of the one before, together they take at most the room of the
+ * faces.  The vertices reached are the same: a chain climbed in two parts
+ * ends where it ends climbed at once. */
+static const int32_t *record_checkpoint_corners(const mesh_record_t *r, int k)
+{
+    return k == 0 ? r->tri : r->ck_tri + r->ck_off[k];
+}
+
+static pp5_status_t record_checkpoints(mesh_record_t *r)
+{
+    size_t total = 0;
+    int n = 0;
+    for (int l = 0, faces = r->n_faces; l < r->n_levels && n < MESH_RECORD_CHECKPOINTS; l++)
+        if (l == 0 || (r->level_faces[l] <= faces / 2 && r->level_faces[l] > 0)) {
+            r->ck_step[n] = l == 0 ? 0 : r->level_step[l];
+            r->ck_faces[n] = faces = l == 0 ? r->n_faces : r->level_faces[l];
+            r->ck_off[n] = total;
+            total += n == 0 ? 0 : 3 * (size_t)faces;
+            n++;
+        }
+    r->ck_tri = malloc(sizeof *r->ck_tri * (total + 1));
+    if (!r->ck_tri)
+        return pp5_fail(PP5_E_NOMEM, "record: out of memory for its checkpoints");
+    r->n_checkpoints = n;
+    for (int k = 1; k < n; k++)
+        record_reps(r, record_checkpoint_corners(r, k - 1), 3 * r->ck_faces[k], r->ck_step[k],
+                    r->ck_tri + r->ck_off[k]);
+    return PP5_OK;
+}
+
+/* The last checkpoint at or before `step`. */
+static int record_checkpoint_for(const mesh_record_t *r, int32_t step)
+{
+    int k = 0;
+    while (k + 1 < r->n_checkpoints && r->ck_step[k + 1] <= step)
+        k++;
+    return k;
+}
+
 pp5_status_t mesh_record_extract(mesh_record_t *r, int level, mesh_t *out)
 {
     if (level < 0 || level >= r->n_levels)
@@ -136,7 +183,8 @@ pp5_status_t mesh_record_extract(mesh_record_t *r, int level, mesh_t *out)
         r->stamp = 1;
     }
     /* the corners' representatives first, into the output's own faces */
-    record_reps(r, r->tri, 3 * nf, step, out->tri);
+    int k = record_checkpoint_for(r, step);
+    record_reps(r, record_checkpoint_corners(r, k), 3 * nf, step, out->tri);
     int nv = 0;
     for (int i = 0; i < 3 * nf; i++) {
         int32_t rep = out->tri[i];
@@ -272,7 +320,7 @@ pp5_status_t mesh_record_load(const char *path, mesh_record_t *r)
     if (st == PP5_OK)
         st = record_check(path, r);
     if (st == PP5_OK)
-        st = record_alloc_scratch(r);
+        st = record_prepare(r);
     if (st != PP5_OK)
         mesh_record_free(r);
     return st;

@@ -67,6 +67,9 @@ typedef struct {
     double cpu_ms;              /* its thread CPU time (steadier on a shared host) */
 } mesh_simplify_stats_t;
 
+/* Halving MESH_MAX_FACES down to one face takes 26 checkpoints. */
+#define MESH_RECORD_CHECKPOINTS 40
+
 /* The collapse record.  Vertices 0..n_input_vertices-1 are the input's; each
  * merge step s (1-based) creates vertex n_input_vertices + s - 1 from two
  * existing ones (a triangle collapse is two steps).  A face lives while
@@ -86,6 +89,16 @@ typedef struct {
     int32_t *level_step;     /* steps done at each level */
     int32_t *level_faces;    /* faces at each level (non-increasing) */
     int32_t *level_vertices;
+    /* Checkpoints, built when the record is made or loaded (not saved):
+     * at checkpoint k, after ck_step[k] steps, the first ck_faces[k] faces'
+     * corners as the vertices that stand for them then (mesh_record.c).
+     * Checkpoint 0 is tri itself (step 0, all faces), checkpoint k > 0 is at
+     * ck_tri + ck_off[k], and each has at most half the faces of the one
+     * before.  n_checkpoints = 0 extracts from tri alone. */
+    int n_checkpoints;
+    int32_t ck_step[MESH_RECORD_CHECKPOINTS], ck_faces[MESH_RECORD_CHECKPOINTS];
+    size_t ck_off[MESH_RECORD_CHECKPOINTS];
+    int32_t *ck_tri;
     /* Extraction scratch (not thread-safe: one extraction at a time). */
     int32_t *scratch_map;    /* record vertex -> its number in the level */
     uint32_t *scratch_mstamp, stamp; /* scratch_map[v] is current when its stamp is */
