@@ -73,9 +73,8 @@ static void sift_down(sw_queue_t *q, int i, sw_qslot_t e)
         /* The heap outgrows the cache, so each level's line of children is
          * a miss: ask for the four lines a level further down (the
          * children's children) before choosing among the children. */
-        if (16 * i + 5 < q->n)
-            for (int k = 0; k < 4; k++)
-                __builtin_prefetch(q->e + 16 * i + 5 + 4 * k);
+        for (int g = 16 * i + 5; g < q->n && g < 16 * i + 21; g += 4)
+            __builtin_prefetch(q->e + g);
         for (int j = c + 1; j < end; j++)
             if (slot_less(q, q->e[j], q->e[c]))
                 c = j;
